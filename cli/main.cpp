@@ -1,0 +1,47 @@
+// treeskel: tree skeletons and models from raw point clouds.
+#include "commands.h"
+#include "treeskel/error.h"
+
+#include <tbb/global_control.h>
+
+#include <iostream>
+#include <memory>
+#include <thread>
+
+int main(int argc, char** argv) {
+  CLI::App app{"treeskel " TREESKEL_VERSION
+               ": curve skeletons of trees from raw point clouds (Fu et al., IEEE Access 2020).\n"
+               "Run 'treeskel COMMAND --help' for the options of a command."};
+  app.set_version_flag("--version", std::string("treeskel ") + TREESKEL_VERSION);
+  app.require_subcommand(1);
+  unsigned threads = 0;
+  app.add_option("--threads", threads, "Threads to use (0: all cores); results do not depend on it")
+      ->default_val(0);
+  const treeskel::cli::Command skeletonize = treeskel::cli::add_skeletonize(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+  std::unique_ptr<tbb::global_control> limit;
+  if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+  try {
+    if (app.got_subcommand("skeletonize")) return skeletonize();
+  } catch (const treeskel::Error& e) {
+    std::cerr << "treeskel: error: " << e.what() << '\n';
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "treeskel: error: out of memory\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "treeskel: internal error: " << e.what() << '\n';
+    return 3;
+  }
+  return 2;
+}

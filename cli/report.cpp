@@ -1,0 +1,28 @@
+#include "report.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace treeskel::cli {
+
+Progress::Progress(bool quiet) : active_(!quiet && ::isatty(STDERR_FILENO)) {}
+
+Progress::~Progress() {
+  if (drawn_) std::fprintf(stderr, "\r\033[K");
+}
+
+void Progress::operator()(const std::string& stage, double done) {
+  if (!active_) return;
+  std::fprintf(stderr, "\r\033[K[%3d%%] %s", static_cast<int>(done * 100.0 + 0.5), stage.c_str());
+  std::fflush(stderr);
+  drawn_ = true;
+}
+
+std::string format_seconds(double seconds) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.2f s", seconds);
+  return buffer;
+}
+
+}  // namespace treeskel::cli

@@ -1,0 +1,33 @@
+/// @file point_cloud_io.h
+/// Reading and writing point clouds, by file extension:
+///   .xyz .txt .asc .csv .pts  text, one point a line (white space, comma or semicolon separated,
+///                             '#' comments, CRLF accepted, extra columns ignored, optional header)
+///   .ply                      ascii or binary (either endianness), float or double, with or without
+///                             normals and colours
+///   .las                      uncompressed LAS 1.0 to 1.4 (.laz is refused with a message)
+/// Clouds are moved to a local frame on reading (PointCloud::offset) and back on writing.
+#pragma once
+
+#include "treeskel/point_cloud.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace treeskel::io {
+
+/// Reads a cloud. @throws InputError with the file name and, where it applies, the line or byte.
+PointCloud read_point_cloud(const std::filesystem::path& path);
+
+struct CloudWriteOptions {
+  bool ply_binary = true;  ///< binary little-endian PLY (else ascii)
+};
+
+/// Writes a cloud in the format of the extension (.xyz .txt .asc .csv .pts .ply .las), atomically.
+/// @throws Error for an unknown extension or a failed write; no file is left behind.
+void write_point_cloud(const std::filesystem::path& path, const PointCloud& cloud, const CloudWriteOptions& options = {});
+
+/// The extensions read_point_cloud accepts.
+const std::vector<std::string>& point_cloud_extensions();
+
+}  // namespace treeskel::io

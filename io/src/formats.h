@@ -1,0 +1,26 @@
+// Per-format readers and writers behind the point_cloud_io facade. Readers return world coordinates
+// (offset zero); the facade moves them to the local frame.
+#pragma once
+
+#include "treeskel/point_cloud.h"
+
+#include <iosfwd>
+#include <string>
+#include <string_view>
+
+namespace treeskel::io::detail {
+
+PointCloud read_xyz(const std::string& data, const std::string& name);
+PointCloud read_ply(const std::string& data, const std::string& name);
+PointCloud read_las(const std::string& data, const std::string& name);
+
+void write_xyz(std::ostream& out, const PointCloud& cloud);
+void write_ply(std::ostream& out, const PointCloud& cloud, bool binary);
+void write_las(std::ostream& out, const PointCloud& cloud);
+
+/// Appends the shortest decimal text that reads back to exactly `value`.
+void append_number(std::string& out, double value);
+/// Parses a whole token as a number ("+1.5", "1e-3", "nan" accepted; "1.5x" refused).
+bool parse_number(std::string_view token, double& value);
+
+}  // namespace treeskel::io::detail

@@ -1,0 +1,61 @@
+#include "treeskel/io/point_cloud_io.h"
+
+#include "formats.h"
+#include "treeskel/error.h"
+#include "treeskel/io/atomic_file.h"
+
+#include <algorithm>
+#include <ostream>
+
+namespace treeskel::io {
+
+namespace {
+
+const std::vector<std::string> text_extensions{"xyz", "txt", "asc", "csv", "pts"};
+
+bool is_text(const std::string& ext) {
+  return std::find(text_extensions.begin(), text_extensions.end(), ext) != text_extensions.end();
+}
+
+std::string known_list() {
+  std::string s;
+  for (const auto& e : point_cloud_extensions()) s += (s.empty() ? "." : ", .") + e;
+  return s;
+}
+
+}  // namespace
+
+const std::vector<std::string>& point_cloud_extensions() {
+  static const std::vector<std::string> all{"xyz", "txt", "asc", "csv", "pts", "ply", "las"};
+  return all;
+}
+
+PointCloud read_point_cloud(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  const std::string ext = extension_of(path);
+  if (ext == "laz")
+    throw InputError(name + ": LAZ (compressed LAS) is not supported; decompress it first, e.g. with "
+                            "'laszip -i file.laz -o file.las' or 'pdal translate file.laz file.las'");
+  if (ext != "ply" && ext != "las" && !is_text(ext))
+    throw InputError(name + ": unknown point cloud extension '." + ext + "'; treeskel reads " + known_list());
+  const std::string data = read_whole_file(path);
+  if (data.empty()) throw InputError(name + ": the file is empty");
+  PointCloud cloud = ext == "ply" ? detail::read_ply(data, name)
+                     : ext == "las" ? detail::read_las(data, name)
+                                    : detail::read_xyz(data, name);
+  recentre_offset(cloud);
+  return cloud;
+}
+
+void write_point_cloud(const std::filesystem::path& path, const PointCloud& cloud, const CloudWriteOptions& options) {
+  const std::string ext = extension_of(path);
+  if (ext != "ply" && ext != "las" && !is_text(ext))
+    throw Error(path.string() + ": unknown point cloud extension '." + ext + "'; treeskel writes " + known_list());
+  write_atomically(path, [&](std::ostream& out) {
+    if (ext == "ply") detail::write_ply(out, cloud, options.ply_binary);
+    else if (ext == "las") detail::write_las(out, cloud);
+    else detail::write_xyz(out, cloud);
+  });
+}
+
+}  // namespace treeskel::io

@@ -1,0 +1,58 @@
+/// @file neighbour_graph.h
+/// The neighbour graph on the octree's skeleton points (Fu et al. 2020, section IV.B), the bridging of
+/// gaps that occlusion leaves between parts of a real scan, and the choice of the part that is the tree.
+#pragma once
+
+#include "treeskel/octree.h"
+#include "treeskel/skeleton.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace treeskel {
+
+enum class NeighbourMode {
+  octree,  ///< cells that share a face, an edge or a corner (the paper's O(n) construction)
+  knn,     ///< the k nearest skeleton points, symmetrised (CGAL spatial search)
+};
+
+struct NeighbourGraphOptions {
+  NeighbourMode mode = NeighbourMode::octree;
+  int k = 26;  ///< neighbours per skeleton point in `knn` mode
+  /// Parts of the graph whose closest skeleton points are at most this far apart are joined by an
+  /// edge (occlusion gaps). 0 (default): 4 cell sizes. Negative: never bridge.
+  double bridge_distance = 0.0;
+  /// After bridging, a part that is not the tree and holds fewer than this share of the points is
+  /// reported as a small isolated cluster (noise); a larger one as a far part. Both are left out.
+  double small_cluster_fraction = 0.01;
+};
+
+/// Symmetric weighted graph on the octree cells in compressed rows: the neighbours of cell c are
+/// `targets[offsets[c] .. offsets[c+1])` at distances `weights[...]` between the cells' medians.
+struct CellGraph {
+  std::vector<std::uint32_t> offsets;
+  std::vector<std::uint32_t> targets;
+  std::vector<double> weights;
+  std::size_t bridges = 0;  ///< edges added to bridge gaps between parts
+
+  std::size_t vertex_count() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  std::size_t edge_count() const { return targets.size() / 2; }
+};
+
+/// Builds the neighbour graph on the cells' medians and bridges gaps between its parts.
+CellGraph build_neighbour_graph(const OctreeCells& cells, const NeighbourGraphOptions& options = {});
+
+/// Connected components of the graph: a component id per cell, ids numbered from 0 in cell order.
+std::vector<std::uint32_t> connected_components(const CellGraph& graph, std::uint32_t* count = nullptr);
+
+/// The part of the graph that is the tree, and what is left out.
+struct MainPart {
+  std::vector<bool> in_tree;  ///< per cell
+  LeftOut left_out;           ///< points of the other parts, by reason
+  std::size_t parts = 0;      ///< connected parts after bridging
+};
+
+/// Picks the connected part holding the most points as the tree.
+MainPart select_main_part(const OctreeCells& cells, const CellGraph& graph, const NeighbourGraphOptions& options = {});
+
+}  // namespace treeskel

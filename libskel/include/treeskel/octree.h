@@ -1,0 +1,58 @@
+/// @file octree.h
+/// Octree subdivision of the cloud and one L1-median per non-empty leaf cell: the initial skeleton
+/// points of Fu et al. 2020, section IV.A. The leaves of a complete octree of depth d are the cells of a
+/// regular 2^d grid over the cloud's bounding cube, so they are found by sorting points on their
+/// Morton key instead of building the tree level by level; the result is the same set of cells.
+#pragma once
+
+#include "treeskel/l1_median.h"
+#include "treeskel/point_cloud.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace treeskel {
+
+struct OctreeOptions {
+  /// Subdivision depth. 0 (default): the paper's `2 + log8 N` for N points, rounded down, in [1, 21].
+  int depth = 0;
+  L1MedianOptions median;  ///< Weiszfeld settings for the per-cell L1-medians
+};
+
+/// The non-empty leaf cells of the octree, ordered by Morton key.
+struct OctreeCells {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< minimum corner of the bounding cube
+  double cube_size = 0.0;                            ///< side of the bounding cube
+  int depth = 0;                                     ///< subdivision depth
+  double cell_size = 0.0;                            ///< side of a leaf cell: cube_size / 2^depth
+  std::vector<std::uint64_t> keys;                   ///< Morton key per cell, strictly increasing
+  std::vector<std::uint32_t> first;                  ///< cell c owns point_order[first[c], first[c+1])
+  std::vector<std::uint32_t> point_order;            ///< point indices grouped by cell
+  std::vector<Eigen::Vector3d> medians;              ///< L1-median of each cell's points
+
+  std::size_t cell_count() const { return keys.size(); }
+  const std::uint32_t* begin(std::size_t cell) const { return point_order.data() + first[cell]; }
+  const std::uint32_t* end(std::size_t cell) const { return point_order.data() + first[cell + 1]; }
+  std::size_t point_count(std::size_t cell) const { return first[cell + 1] - first[cell]; }
+  /// Integer grid coordinates of a cell.
+  Eigen::Vector3i coordinates(std::size_t cell) const;
+  /// Index of the cell with these grid coordinates, or -1 when it is empty or outside the grid.
+  std::int64_t find(const Eigen::Vector3i& coordinates) const;
+};
+
+/// The paper's default depth `2 + log8 n`, rounded down, kept in [1, 21].
+int default_octree_depth(std::size_t point_count);
+
+/// Interleaves the low 21 bits of x, y and z.
+std::uint64_t morton_encode(std::uint32_t x, std::uint32_t y, std::uint32_t z);
+/// Inverse of morton_encode.
+Eigen::Vector3i morton_decode(std::uint64_t key);
+
+/// Subdivides the cloud and computes the per-cell L1-medians (in parallel, deterministic).
+/// @throws InputError for an empty cloud.
+OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& options = {});
+
+}  // namespace treeskel

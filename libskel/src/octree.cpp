@@ -1,0 +1,109 @@
+#include "treeskel/octree.h"
+
+#include "treeskel/error.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace treeskel {
+
+namespace {
+
+std::uint64_t spread_bits(std::uint32_t v) {
+  std::uint64_t x = v & 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
+
+std::uint32_t compact_bits(std::uint64_t x) {
+  x &= 0x1249249249249249ULL;
+  x = (x ^ (x >> 2)) & 0x10c30c30c30c30c3ULL;
+  x = (x ^ (x >> 4)) & 0x100f00f00f00f00fULL;
+  x = (x ^ (x >> 8)) & 0x1f0000ff0000ffULL;
+  x = (x ^ (x >> 16)) & 0x1f00000000ffffULL;
+  x = (x ^ (x >> 32)) & 0x1fffffULL;
+  return static_cast<std::uint32_t>(x);
+}
+
+}  // namespace
+
+std::uint64_t morton_encode(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+  return spread_bits(x) | spread_bits(y) << 1 | spread_bits(z) << 2;
+}
+
+Eigen::Vector3i morton_decode(std::uint64_t key) {
+  return {static_cast<int>(compact_bits(key)), static_cast<int>(compact_bits(key >> 1)),
+          static_cast<int>(compact_bits(key >> 2))};
+}
+
+int default_octree_depth(std::size_t point_count) {
+  if (point_count < 2) return 1;
+  const double d = 2.0 + std::log(static_cast<double>(point_count)) / std::log(8.0);
+  return std::clamp(static_cast<int>(std::floor(d + 1e-9)), 1, 21);
+}
+
+Eigen::Vector3i OctreeCells::coordinates(std::size_t cell) const { return morton_decode(keys[cell]); }
+
+std::int64_t OctreeCells::find(const Eigen::Vector3i& c) const {
+  const int n = 1 << depth;
+  if ((c.array() < 0).any() || (c.array() >= n).any()) return -1;
+  const auto key = morton_encode(c.x(), c.y(), c.z());
+  const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+  if (it == keys.end() || *it != key) return -1;
+  return it - keys.begin();
+}
+
+OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& options) {
+  if (cloud.empty()) throw InputError("the point cloud is empty");
+  if (options.depth < 0 || options.depth > 21)
+    throw OptionError("octree depth must be between 1 and 21 (0 for the default), got " +
+                      std::to_string(options.depth));
+  OctreeCells cells;
+  cells.depth = options.depth > 0 ? options.depth : default_octree_depth(cloud.size());
+  const Eigen::AlignedBox3d box = bounding_box(cloud);
+  cells.origin = box.min();
+  cells.cube_size = std::max(box.sizes().maxCoeff(), 1e-300);
+  const std::uint32_t resolution = 1u << cells.depth;
+  cells.cell_size = cells.cube_size / resolution;
+
+  const std::size_t n = cloud.size();
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
+  const double inv = 1.0 / cells.cell_size;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const Eigen::Vector3d g = (cloud.positions[i] - cells.origin) * inv;
+      std::uint32_t c[3];
+      for (int a = 0; a < 3; ++a)
+        c[a] = static_cast<std::uint32_t>(std::clamp(std::floor(g[a]), 0.0, double(resolution - 1)));
+      keyed[i] = {morton_encode(c[0], c[1], c[2]), static_cast<std::uint32_t>(i)};
+    }
+  });
+  tbb::parallel_sort(keyed.begin(), keyed.end());  // keys with indices are unique: deterministic
+
+  cells.point_order.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    cells.point_order[i] = keyed[i].second;
+    if (i == 0 || keyed[i].first != keyed[i - 1].first) {
+      cells.keys.push_back(keyed[i].first);
+      cells.first.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  cells.first.push_back(static_cast<std::uint32_t>(n));
+
+  cells.medians.resize(cells.cell_count());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.cell_count(), 256), [&](const auto& range) {
+    for (std::size_t c = range.begin(); c != range.end(); ++c)
+      cells.medians[c] = l1_median(cloud.positions, cells.begin(c), cells.end(c), options.median);
+  });
+  return cells;
+}
+
+}  // namespace treeskel

@@ -1,0 +1,55 @@
+#include "treeskel/smooth.h"
+
+#include "treeskel/error.h"
+
+namespace treeskel {
+
+Skeleton smooth_skeleton(const Skeleton& skeleton, const SmoothOptions& options) {
+  if (options.samples_per_edge < 0) throw OptionError("samples per edge must not be negative");
+  if (options.tension < 0.0 || options.tension > 1.0) throw OptionError("spline tension must be in [0, 1]");
+  const auto& g = skeleton.graph;
+  const std::size_t n = boost::num_vertices(g);
+  Skeleton out;
+  out.root = skeleton.root;
+  out.offset = skeleton.offset;
+  out.noise_points = skeleton.noise_points;
+  out.left_out = skeleton.left_out;
+  for (NodeId v = 0; v < n; ++v) add_node(out, g[v]);
+  if (n == 0) return out;
+
+  const auto parent = parents_from_root(g, skeleton.root);
+  std::vector<int> child_count(n, 0);
+  std::vector<NodeId> only_child(n, 0);
+  for (NodeId v = 0; v < n; ++v)
+    if (v != skeleton.root) {
+      ++child_count[parent[v]];
+      only_child[parent[v]] = v;
+    }
+  const double s = (1.0 - options.tension) / 2.0;
+  const int k = options.samples_per_edge;
+  for (auto v : bfs_order(g, skeleton.root)) {
+    if (v == skeleton.root) continue;
+    const NodeId a = parent[v];
+    const Eigen::Vector3d& p1 = g[a].position;
+    const Eigen::Vector3d& p2 = g[v].position;
+    // Where the chain ends (the root, a tip, a fork) the missing neighbour is mirrored, so that
+    // evenly spaced collinear nodes give evenly spaced collinear samples.
+    const Eigen::Vector3d p0 = a == skeleton.root ? Eigen::Vector3d(2.0 * p1 - p2) : g[parent[a]].position;
+    const Eigen::Vector3d p3 = child_count[v] == 1 ? g[only_child[v]].position : Eigen::Vector3d(2.0 * p2 - p1);
+    const Eigen::Vector3d m1 = s * (p2 - p0), m2 = s * (p3 - p1);
+    NodeId previous = a;
+    for (int i = 1; i <= k; ++i) {
+      const double t = static_cast<double>(i) / (k + 1), t2 = t * t, t3 = t2 * t;
+      SkeletonNode node;
+      node.position = (2 * t3 - 3 * t2 + 1) * p1 + (t3 - 2 * t2 + t) * m1 + (-2 * t3 + 3 * t2) * p2 + (t3 - t2) * m2;
+      node.radius = (1 - t) * g[a].radius + t * g[v].radius;
+      const NodeId w = add_node(out, node);
+      boost::add_edge(previous, w, out.graph);
+      previous = w;
+    }
+    boost::add_edge(previous, v, out.graph);
+  }
+  return out;
+}
+
+}  // namespace treeskel

@@ -1,0 +1,134 @@
+// End-to-end runs of the treeskel command on real files.
+#include "support/synthetic.h"
+#include "treeskel/io/point_cloud_io.h"
+#include "treeskel/io/skeleton_io.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace treeskel {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string out;  // stdout and stderr
+};
+
+/// Runs the tool with `args` (a shell word list) in `cwd`, capturing both streams.
+Result run(const std::string& args, const std::string& cwd = ".") {
+  const std::string command = "cd '" + cwd + "' && '" TREESKEL_EXE "' " + args + " 2>&1";
+  Result r;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buffer;
+  std::size_t n;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.out.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+TEST(Cli, NoInputRunsTheBundledExample) {
+  const test::TempDir dir;
+  const Result r = run("skeletonize", dir.root());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("tree_rtwig.txt: 14667 points"), std::string::npos) << r.out;
+  ASSERT_TRUE(fs::exists(dir.path("tree_rtwig_skeleton.ply")));
+  const Skeleton s = io::read_skeleton(dir.path("tree_rtwig_skeleton.ply"));
+  EXPECT_TRUE(is_tree(s.graph));
+  EXPECT_GT(count_branch_points(s.graph), 5u);
+}
+
+TEST(Cli, JsonReportAndEveryOutputFormat) {
+  const test::TempDir dir;
+  const std::string input = test::data_file("tree_adtree1.xyz");
+  for (const char* ext : {"ply", "obj", "json"}) {
+    const std::string out = dir.path(std::string("tree.") + ext);
+    const Result r = run("skeletonize " + quoted(input) + " -o " + quoted(out) + " --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["points"], 11855);
+    EXPECT_EQ(j["output"], out);
+    EXPECT_EQ(j["nodes"].get<int>(), j["edges"].get<int>() + 1);
+    EXPECT_GT(j["branch_points"].get<int>(), 3);
+    EXPECT_TRUE(j.contains("left_out"));
+    EXPECT_TRUE(j["stage_seconds"].contains("CPC"));
+    EXPECT_TRUE(fs::file_size(out) > 100);
+  }
+}
+
+TEST(Cli, ReadsLasAndPlyAndKeepsTheInputFrame) {
+  const test::TempDir dir;
+  PointCloud c = io::read_point_cloud(test::data_file("tree_rtwig.txt"));
+  c.offset += Eigen::Vector3d(300000.0, 5000000.0, 0.0);  // as if georeferenced
+  io::write_point_cloud(dir.path("utm.las"), c);
+  io::write_point_cloud(dir.path("utm.ply"), c);
+  for (const char* name : {"utm.las", "utm.ply"}) {
+    const Result r = run("skeletonize " + quoted(dir.path(name)) + " -o " + quoted(dir.path(std::string(name) + ".json")) + " -q");
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(r.out, "");  // --quiet
+    const Skeleton s = io::read_skeleton(dir.path(std::string(name) + ".json"));
+    const Eigen::Vector3d root = s[s.root].position + s.offset;
+    EXPECT_NEAR(root.x(), 300000.0 + 0.75, 1.0);
+    EXPECT_NEAR(root.y(), 5000000.0 - 16.3, 1.0);
+  }
+}
+
+TEST(Cli, BadInputFailsWithAMessageAndWritesNothing) {
+  const test::TempDir dir;
+  std::ofstream(dir.path("words.xyz")) << "1 2 3\n4 x 6\n";
+  std::ofstream(dir.path("three.xyz")) << "0 0 0\n1 0 0\n0 1 0\n";
+  std::ofstream(dir.path("line.xyz")) << "0 0 0\n1 1 1\n2 2 2\n3 3 3\n4 4 4\n5 5 5\n6 6 6\n7 7 7\n8 8 8\n9 9 9\n10 10 10\n";
+  std::ofstream(dir.path("empty.xyz"));
+  const std::pair<std::string, std::string> cases[] = {
+      {"missing.xyz", "no such file"},   {"words.xyz", "line 2"},     {"three.xyz", "at least 10"},
+      {"line.xyz", "one straight line"}, {"empty.xyz", "is empty"},
+  };
+  for (const auto& [name, message] : cases) {
+    const std::string out = dir.path(name + ".ply");
+    const Result r = run("skeletonize " + quoted(dir.path(name)) + " -o " + quoted(out));
+    EXPECT_EQ(r.code, 1) << name << ": " << r.out;
+    EXPECT_NE(r.out.find(message), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(name), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(out));
+  }
+  // An existing output is not overwritten by a failed run.
+  const std::string keep = dir.path("keep.ply");
+  std::ofstream(keep) << "old";
+  EXPECT_EQ(run("skeletonize " + quoted(dir.path("words.xyz")) + " -o " + quoted(keep)).code, 1);
+  std::ifstream in(keep);
+  std::string old;
+  in >> old;
+  EXPECT_EQ(old, "old");
+  // Unknown output extension: refused before any work.
+  const Result bad = run("skeletonize -o " + quoted(dir.path("tree.stl")));
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.out.find("unknown skeleton extension"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir.path("tree.stl")));
+  // Only the files the test made are in the folder: no temporaries left behind.
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.root()), fs::directory_iterator()), 5);
+}
+
+TEST(Cli, UsageErrorsAndHelp) {
+  EXPECT_EQ(run("").code, 2);
+  EXPECT_EQ(run("skeletonize --depth 40").code, 2);
+  EXPECT_EQ(run("skeletonize --neighbours magic").code, 2);
+  const Result help = run("skeletonize --help");
+  EXPECT_EQ(help.code, 0);
+  for (const char* option : {"--band", "--cpc-weight", "--eta", "--bridge", "--up", "--json", "--no-refine"})
+    EXPECT_NE(help.out.find(option), std::string::npos) << option;
+  EXPECT_NE(help.out.find("100"), std::string::npos);  // defaults are shown
+}
+
+}  // namespace
+}  // namespace treeskel

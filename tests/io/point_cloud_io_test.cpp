@@ -1,0 +1,240 @@
+#include "treeskel/io/point_cloud_io.h"
+
+#include "support/synthetic.h"
+#include "treeskel/error.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace treeskel {
+namespace {
+
+namespace fs = std::filesystem;
+using test::TempDir;
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// Expects read_point_cloud to throw an InputError whose message contains every fragment.
+void expect_error(const std::string& path, std::initializer_list<std::string> fragments) {
+  try {
+    io::read_point_cloud(path);
+    ADD_FAILURE() << path << ": no error";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    for (const auto& f : fragments) EXPECT_NE(m.find(f), std::string::npos) << "'" << f << "' not in: " << m;
+  }
+}
+
+PointCloud random_cloud(bool utm, bool normals, bool colors) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 20.0);
+  PointCloud c;
+  for (int i = 0; i < 300; ++i) {
+    c.positions.emplace_back(u(rng), u(rng), u(rng));
+    if (normals) c.normals.emplace_back(Eigen::Vector3f::Random().normalized());
+    if (colors) c.colors.push_back({std::uint8_t(i % 256), std::uint8_t(i * 7 % 256), std::uint8_t(i * 13 % 256)});
+  }
+  if (utm) c.offset = Eigen::Vector3d(312000.25, 5012000.5, 100.0);
+  return c;
+}
+
+void expect_same_world(const PointCloud& a, const PointCloud& b, double tolerance) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    ASSERT_LE(((a.positions[i] + a.offset) - (b.positions[i] + b.offset)).cwiseAbs().maxCoeff(), tolerance) << i;
+  EXPECT_EQ(a.colors, b.colors);
+  ASSERT_EQ(a.normals.size(), b.normals.size());
+  for (std::size_t i = 0; i < a.normals.size(); ++i) EXPECT_TRUE(a.normals[i].isApprox(b.normals[i], 1e-6f));
+}
+
+class RoundTrip : public ::testing::TestWithParam<std::tuple<std::string, bool>> {};
+
+TEST_P(RoundTrip, WritesAndReadsBack) {
+  const auto& [ext, utm] = GetParam();
+  const TempDir dir;
+  const bool attributes = ext != "las";
+  for (bool binary : {true, false}) {
+    const PointCloud c = random_cloud(utm, attributes, true);
+    const std::string path = dir.path("cloud." + ext);
+    io::write_point_cloud(path, c, {binary});
+    const PointCloud back = io::read_point_cloud(path);
+    expect_same_world(c, back, ext == "las" ? 0.5e-4 + 1e-9 : 1e-9);
+    EXPECT_EQ(bounding_box(back).min(), Eigen::Vector3d::Zero());  // the reader's local frame
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, RoundTrip,
+                         ::testing::Combine(::testing::Values("xyz", "txt", "asc", "csv", "pts", "ply", "las"),
+                                            ::testing::Bool()));
+
+TEST(ReadText, AcceptsCommentsCrlfCommasHeadersAndExtraColumns) {
+  const TempDir dir;
+  const std::string path = dir.path("mixed.csv");
+  write_text(path,
+             "# a comment line\r\n"
+             "X,Y,Z,intensity\r\n"
+             "1.5,2,3,77\r\n"
+             "\r\n"
+             "+4,5e0,-6 ,1 # trailing comment\r\n"
+             "7;8;9;0\r\n");
+  const PointCloud c = io::read_point_cloud(path);
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_EQ(c.positions[1] + c.offset, Eigen::Vector3d(4, 5, -6));
+  EXPECT_EQ(c.positions[2] + c.offset, Eigen::Vector3d(7, 8, 9));
+  EXPECT_FALSE(c.has_normals());
+}
+
+TEST(ReadText, HeaderPicksTheColumns) {
+  const TempDir dir;
+  const std::string path = dir.path("cols.txt");
+  write_text(path, "id z y x red green blue\n1 3 2 1 255 0 10\n2 6 5 4 0 128 20\n");
+  const PointCloud c = io::read_point_cloud(path);
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c.positions[1] + c.offset, Eigen::Vector3d(4, 5, 6));
+  ASSERT_TRUE(c.has_colors());
+  EXPECT_EQ(c.colors[0], (std::array<std::uint8_t, 3>{255, 0, 10}));
+}
+
+TEST(ReadText, BundledCrlfFileWithTrailingSpaces) {
+  const PointCloud c = io::read_point_cloud(test::data_file("tree_adtree1.xyz"));
+  EXPECT_EQ(c.size(), 11855u);
+}
+
+TEST(ReadPly, BigEndianFloatWithFacesAfterTheVertices) {
+  const TempDir dir;
+  const std::string path = dir.path("be.ply");
+  std::string data =
+      "ply\nformat binary_big_endian 1.0\ncomment made by hand\nelement vertex 2\nproperty float x\n"
+      "property float y\nproperty float z\nproperty uchar flag\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  auto put_be = [&](const void* p, std::size_t n) {
+    const auto* b = static_cast<const char*>(p);
+    for (std::size_t i = n; i-- > 0;) data.push_back(b[i]);
+  };
+  const float v[2][3] = {{1.5f, -2.0f, 3.25f}, {4.0f, 5.0f, 6.0f}};
+  for (const auto& p : v) {
+    for (float f : p) put_be(&f, 4);
+    data.push_back('\x01');
+  }
+  data.push_back('\x03');
+  for (std::int32_t i : {0, 1, 0}) put_be(&i, 4);
+  write_text(path, data);
+  const PointCloud c = io::read_point_cloud(path);
+  ASSERT_EQ(c.size(), 2u);
+  EXPECT_EQ(c.positions[0] + c.offset, Eigen::Vector3d(1.5, -2.0, 3.25));
+}
+
+TEST(ReadPly, AsciiWithNormalsAndFloatColours) {
+  const TempDir dir;
+  const std::string path = dir.path("a.ply");
+  write_text(path,
+             "ply\r\nformat ascii 1.0\r\nelement vertex 2\r\nproperty double x\r\nproperty double y\r\nproperty double z\r\n"
+             "property float nx\r\nproperty float ny\r\nproperty float nz\r\nproperty float red\r\nproperty float green\r\n"
+             "property float blue\r\nend_header\r\n1 2 3 0 0 1 1 0.5 0\r\n4 5 6 1 0 0 0 0 1\r\n");
+  const PointCloud c = io::read_point_cloud(path);
+  ASSERT_EQ(c.size(), 2u);
+  ASSERT_TRUE(c.has_normals());
+  EXPECT_EQ(c.normals[1], Eigen::Vector3f(1, 0, 0));
+  EXPECT_EQ(c.colors[0], (std::array<std::uint8_t, 3>{255, 128, 0}));
+}
+
+/// A LAS 1.4 file with point format 6 (the 64-bit count), written byte by byte.
+std::string las14(std::uint64_t declared, std::uint64_t present) {
+  std::string h(375, '\0');
+  h.replace(0, 4, "LASF");
+  h[24] = 1;
+  h[25] = 4;
+  auto set = [&](std::size_t at, auto v) { std::memcpy(&h[at], &v, sizeof v); };
+  set(94, std::uint16_t{375});
+  set(96, std::uint32_t{375});
+  set(104, std::uint8_t{6});
+  set(105, std::uint16_t{30});
+  set(247, declared);
+  for (int a = 0; a < 3; ++a) {
+    set(131 + 8 * a, 0.01);
+    set(155 + 8 * a, a == 0 ? 500000.0 : a == 1 ? 4000000.0 : 0.0);
+  }
+  for (std::uint64_t i = 0; i < present; ++i) {
+    std::string rec(30, '\0');
+    const std::int32_t xyz[3] = {std::int32_t(100 * i), std::int32_t(200 + i), std::int32_t(300)};
+    std::memcpy(&rec[0], xyz, 12);
+    h += rec;
+  }
+  return h;
+}
+
+TEST(ReadLas, Version14PointFormat6) {
+  const TempDir dir;
+  const std::string path = dir.path("v14.las");
+  write_text(path, las14(3, 3));
+  const PointCloud c = io::read_point_cloud(path);
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_NEAR((c.positions[2] + c.offset - Eigen::Vector3d(500002.0, 4000002.02, 3.0)).norm(), 0.0, 1e-6);
+}
+
+TEST(BadInput, EachGetsAClearMessage) {
+  const TempDir dir;
+  const auto file = [&](const std::string& name, const std::string& content) {
+    const std::string p = dir.path(name);
+    write_text(p, content);
+    return p;
+  };
+  expect_error(dir.path("missing.xyz"), {"no such file"});
+  expect_error(file("empty.xyz", ""), {"empty"});
+  expect_error(file("blank.xyz", "# only a comment\n\n"), {"no points"});
+  expect_error(file("words.xyz", "1 2 3\n4 five 6\n"), {"line 2", "'five' is not a number"});
+  expect_error(file("short.xyz", "1 2 3\n4 5\n"), {"line 2", "at least 3 numbers"});
+  expect_error(file("nan.xyz", "1 2 3\nnan 5 6\n"), {"line 2", "not a finite number"});
+  expect_error(file("inf.txt", "1 2 3\n4 5 inf\n"), {"line 2", "not a finite number"});
+  expect_error(file("cloud.laz", "LASF"), {"LAZ", "decompress"});
+  expect_error(file("cloud.obj", "v 1 2 3\n"), {"unknown point cloud extension"});
+  expect_error(file("fake.ply", "hello\n"), {"not a PLY file"});
+  expect_error(file("noend.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"), {"end_header"});
+  expect_error(file("noxyz.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n"), {"x, y and z"});
+
+  // A binary PLY cut short, and one whose header claims fewer points than it holds.
+  PointCloud c = random_cloud(false, false, false);
+  io::write_point_cloud(dir.path("good.ply"), c);
+  const std::string ply = read_bytes(dir.path("good.ply"));
+  expect_error(file("truncated.ply", ply.substr(0, ply.size() - 10)), {"truncated", "300 vertex"});
+  std::string fewer = ply;
+  fewer.replace(fewer.find("vertex 300"), 10, "vertex 299");
+  expect_error(file("fewer.ply", fewer), {"bytes follow the last element"});
+  std::string more_ascii = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n4 5 6\n";
+  expect_error(file("lies.ply", more_ascii), {"ends after 2 of the 3 vertex"});
+  expect_error(file("nanbin.ply", [&] {
+                 std::string s = ply;
+                 const double bad = std::numeric_limits<double>::quiet_NaN();
+                 std::memcpy(&s[s.find("end_header\n") + 11 + 24], &bad, 8);
+                 return s;
+               }()),
+               {"vertex 1", "not a finite number"});
+
+  // LAS cut short, with a header that lies, and not LAS at all.
+  io::write_point_cloud(dir.path("good.las"), c);
+  const std::string las = read_bytes(dir.path("good.las"));
+  expect_error(file("truncated.las", las.substr(0, las.size() - 7)), {"truncated", "300 points"});
+  expect_error(file("header.las", las.substr(0, 100)), {"truncated", "shorter than a LAS header"});
+  expect_error(file("lies14.las", las14(2, 3)), {"declares 2 points", "more bytes"});
+  expect_error(file("short14.las", las14(5, 3)), {"truncated", "5 points"});
+  expect_error(file("notlas.las", "PK\x03\x04 zip"), {"not a LAS file"});
+  std::string compressed = las;
+  compressed[104] = static_cast<char>(0x80 | 3);
+  expect_error(file("compressed.las", compressed), {"LAZ-compressed"});
+}
+
+}  // namespace
+}  // namespace treeskel

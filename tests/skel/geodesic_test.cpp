@@ -1,0 +1,66 @@
+#include "treeskel/geodesic.h"
+
+#include <gtest/gtest.h>
+
+namespace treeskel {
+namespace {
+
+/// An L-shaped row of cells: up the z axis, then along x.
+struct LShape {
+  PointCloud cloud;
+  OctreeCells cells;
+  CellGraph graph;
+  LShape() {
+    for (int z = 0; z < 10; ++z) cloud.positions.emplace_back(0.5, 0.5, z + 0.5);
+    for (int x = 1; x < 10; ++x) cloud.positions.emplace_back(x + 0.5, 0.5, 9.5);
+    cloud.positions.emplace_back(16.0, 0.0, 0.0);  // two pins fix the bounding cube to [0, 16]³
+    cloud.positions.emplace_back(0.0, 16.0, 16.0);
+    OctreeOptions o;
+    o.depth = 4;
+    cells = build_octree_cells(cloud, o);
+    NeighbourGraphOptions g;
+    g.bridge_distance = -1.0;
+    graph = build_neighbour_graph(cells, g);
+  }
+};
+
+TEST(Geodesic, DistanceFollowsTheGraphNotTheStraightLine) {
+  const LShape l;
+  const auto main = select_main_part(l.cells, l.graph);
+  const auto roots = select_root_cells(l.cells, l.graph, main.in_tree, {});
+  ASSERT_EQ(roots.size(), 2u);  // the slice is one cell thick: z = 0.5 and 1.5 are within it
+  const auto geo = geodesic_distance(l.graph, roots);
+  const auto tip = l.cells.find({9, 0, 9});
+  // From the slice top (z 1.5) up to z 8.5 is 7, a diagonal step cuts the corner (sqrt 2), then 8
+  // along x: the straight line would be about 12.3.
+  EXPECT_NEAR(geo.distance[tip], 15.0 + std::sqrt(2.0), 1e-9);
+  const auto pin = l.cells.find({15, 0, 0});
+  EXPECT_TRUE(std::isinf(geo.distance[pin]));
+  EXPECT_EQ(geo.predecessor[pin], -1);
+  // Predecessors lead back to a root.
+  std::int64_t c = tip;
+  int steps = 0;
+  while (geo.predecessor[c] >= 0 && steps < 100) {
+    c = geo.predecessor[c];
+    ++steps;
+  }
+  EXPECT_TRUE(std::find(roots.begin(), roots.end(), static_cast<std::uint32_t>(c)) != roots.end());
+}
+
+TEST(Geodesic, RootPointAndUpAxisChooseTheStart) {
+  const LShape l;
+  const auto main = select_main_part(l.cells, l.graph);
+  RootOptions at_tip;
+  at_tip.point = Eigen::Vector3d(9.5, 0.5, 9.5);
+  const auto roots = select_root_cells(l.cells, l.graph, main.in_tree, at_tip);
+  ASSERT_EQ(roots.size(), 1u);
+  EXPECT_EQ(roots[0], l.cells.find({9, 0, 9}));
+
+  RootOptions sideways;
+  sideways.up = -Eigen::Vector3d::UnitX();  // "lowest" is now the largest x
+  const auto side_roots = select_root_cells(l.cells, l.graph, main.in_tree, sideways);
+  EXPECT_EQ(side_roots.front(), std::min(l.cells.find({8, 0, 9}), l.cells.find({9, 0, 9})));
+}
+
+}  // namespace
+}  // namespace treeskel

@@ -1,0 +1,97 @@
+#include "treeskel/neighbour_graph.h"
+
+#include <gtest/gtest.h>
+
+namespace treeskel {
+namespace {
+
+/// One point at the centre of each listed grid cell of a unit grid (depth chosen so cells are 1 wide).
+PointCloud grid_points(const std::vector<Eigen::Vector3i>& cells_at, int extent) {
+  PointCloud c;
+  for (const auto& g : cells_at) c.positions.push_back(g.cast<double>() + Eigen::Vector3d::Constant(0.5));
+  // Corner points pin the bounding cube to [0, extent]: they land in cells far from the others.
+  c.positions.emplace_back(0.0, 0.0, 0.0);
+  c.positions.emplace_back(extent, extent, extent);
+  return c;
+}
+
+TEST(NeighbourGraph, OctreeAdjacencyIsTheTwentySixNeighbourhood) {
+  std::vector<Eigen::Vector3i> block;
+  for (int z = 4; z < 7; ++z)
+    for (int y = 4; y < 7; ++y)
+      for (int x = 4; x < 7; ++x) block.emplace_back(x, y, z);
+  const PointCloud cloud = grid_points(block, 16);
+  OctreeOptions o;
+  o.depth = 4;  // 16 cells of size 1
+  const OctreeCells cells = build_octree_cells(cloud, o);
+  ASSERT_DOUBLE_EQ(cells.cell_size, 1.0);
+  NeighbourGraphOptions g;
+  g.bridge_distance = -1.0;
+  const CellGraph graph = build_neighbour_graph(cells, g);
+  const auto centre = cells.find({5, 5, 5});
+  ASSERT_GE(centre, 0);
+  EXPECT_EQ(graph.offsets[centre + 1] - graph.offsets[centre], 26u);
+  const auto corner = cells.find({4, 4, 4});
+  EXPECT_EQ(graph.offsets[corner + 1] - graph.offsets[corner], 7u);
+  // Symmetric, and weights are the distances between medians.
+  for (std::size_t c = 0; c < graph.vertex_count(); ++c)
+    for (auto e = graph.offsets[c]; e < graph.offsets[c + 1]; ++e) {
+      const auto o2 = graph.targets[e];
+      bool back = false;
+      for (auto f = graph.offsets[o2]; f < graph.offsets[o2 + 1]; ++f) back |= graph.targets[f] == c;
+      EXPECT_TRUE(back);
+      EXPECT_NEAR(graph.weights[e], (cells.medians[c] - cells.medians[o2]).norm(), 1e-12);
+    }
+  std::uint32_t parts = 0;
+  connected_components(graph, &parts);
+  EXPECT_EQ(parts, 3u);  // the block and the two corner pins
+}
+
+TEST(NeighbourGraph, BridgesGapsShorterThanTheBridgeDistance) {
+  std::vector<Eigen::Vector3i> line;
+  for (int z = 0; z < 6; ++z) line.emplace_back(8, 8, z + 1);
+  for (int z = 9; z < 15; ++z) line.emplace_back(8, 8, z);  // a gap of two empty cells (z = 7, 8)
+  PointCloud cloud;
+  for (const auto& g : line) cloud.positions.push_back(g.cast<double>() + Eigen::Vector3d(0.5, 0.5, 0.5));
+  cloud.positions.emplace_back(0.0, 0.0, 0.0);
+  cloud.positions.emplace_back(16.0, 0.0, 0.0);
+  OctreeOptions o;
+  o.depth = 4;
+  const OctreeCells cells = build_octree_cells(cloud, o);
+
+  NeighbourGraphOptions none;
+  none.bridge_distance = -1.0;
+  std::uint32_t parts = 0;
+  connected_components(build_neighbour_graph(cells, none), &parts);
+  EXPECT_EQ(parts, 4u);
+
+  NeighbourGraphOptions near;
+  near.bridge_distance = 3.5;  // joins the line (gap 3) but not the pins, which are farther
+  const CellGraph bridged = build_neighbour_graph(cells, near);
+  connected_components(bridged, &parts);
+  EXPECT_EQ(parts, 3u);
+  EXPECT_EQ(bridged.bridges, 1u);
+
+  const MainPart main = select_main_part(cells, bridged, near);
+  EXPECT_EQ(main.parts, 3u);
+  EXPECT_EQ(main.left_out.total(), 2u);
+  EXPECT_EQ(std::count(main.in_tree.begin(), main.in_tree.end(), true), 12);
+}
+
+TEST(NeighbourGraph, KnnGraphIsSymmetricWithAtLeastKNeighbours) {
+  PointCloud cloud;
+  for (int i = 0; i < 400; ++i) cloud.positions.emplace_back(std::cos(i * 0.1) * (1 + i * 0.01), std::sin(i * 0.1), i * 0.01);
+  const OctreeCells cells = build_octree_cells(cloud, {});
+  NeighbourGraphOptions g;
+  g.mode = NeighbourMode::knn;
+  g.k = 6;
+  g.bridge_distance = -1.0;
+  const CellGraph graph = build_neighbour_graph(cells, g);
+  for (std::size_t c = 0; c < graph.vertex_count(); ++c) {
+    EXPECT_GE(graph.offsets[c + 1] - graph.offsets[c], 6u);
+    for (auto e = graph.offsets[c]; e < graph.offsets[c + 1]; ++e) EXPECT_NE(graph.targets[e], c);
+  }
+}
+
+}  // namespace
+}  // namespace treeskel

@@ -1,0 +1,68 @@
+#include "treeskel/octree.h"
+
+#include "treeskel/error.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace treeskel {
+namespace {
+
+TEST(Octree, MortonRoundTrips) {
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<std::uint32_t> d(0, (1u << 21) - 1);
+  for (int i = 0; i < 1000; ++i) {
+    const std::uint32_t x = d(rng), y = d(rng), z = d(rng);
+    EXPECT_EQ(morton_decode(morton_encode(x, y, z)), Eigen::Vector3i(int(x), int(y), int(z)));
+  }
+  EXPECT_EQ(morton_encode(1, 0, 0), 1u);
+  EXPECT_EQ(morton_encode(0, 1, 0), 2u);
+  EXPECT_EQ(morton_encode(0, 0, 1), 4u);
+}
+
+TEST(Octree, DefaultDepthIsTwoPlusLog8) {
+  EXPECT_EQ(default_octree_depth(1), 1);
+  EXPECT_EQ(default_octree_depth(8), 3);
+  EXPECT_EQ(default_octree_depth(4096), 6);
+  EXPECT_EQ(default_octree_depth(1000000), 8);  // 2 + 6.64
+  EXPECT_EQ(default_octree_depth(14045), 6);    // 2 + 4.59
+}
+
+TEST(Octree, EveryPointIsInExactlyOneCellThatContainsIt) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 3.0);
+  PointCloud cloud;
+  for (int i = 0; i < 5000; ++i) cloud.positions.emplace_back(u(rng), u(rng) * 0.5, u(rng) * 0.2);
+  const OctreeCells cells = build_octree_cells(cloud, {});
+  EXPECT_EQ(cells.depth, default_octree_depth(5000));
+  std::vector<int> seen(cloud.size(), 0);
+  for (std::size_t c = 0; c < cells.cell_count(); ++c) {
+    EXPECT_GT(cells.point_count(c), 0u);
+    if (c > 0) {
+      EXPECT_LT(cells.keys[c - 1], cells.keys[c]);
+    }
+    const Eigen::Vector3d lo = cells.origin + cells.coordinates(c).cast<double>() * cells.cell_size;
+    const Eigen::AlignedBox3d box(lo, lo + Eigen::Vector3d::Constant(cells.cell_size));
+    for (auto it = cells.begin(c); it != cells.end(c); ++it) {
+      ++seen[*it];
+      EXPECT_TRUE(box.exteriorDistance(cloud.positions[*it]) < 1e-12);
+    }
+    EXPECT_TRUE(box.exteriorDistance(cells.medians[c]) < 1e-12);  // a median lies in its points' hull
+    EXPECT_EQ(cells.find(cells.coordinates(c)), static_cast<std::int64_t>(c));
+  }
+  for (int s : seen) EXPECT_EQ(s, 1);
+  EXPECT_EQ(cells.find(Eigen::Vector3i(-1, 0, 0)), -1);
+}
+
+TEST(Octree, RejectsEmptyCloudAndBadDepth) {
+  EXPECT_THROW(build_octree_cells(PointCloud{}, {}), InputError);
+  PointCloud one;
+  one.positions = {{0, 0, 0}, {1, 1, 1}};
+  OctreeOptions bad;
+  bad.depth = 22;
+  EXPECT_THROW(build_octree_cells(one, bad), OptionError);
+}
+
+}  // namespace
+}  // namespace treeskel

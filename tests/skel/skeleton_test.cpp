@@ -1,0 +1,81 @@
+#include "treeskel/skeleton.h"
+
+#include <gtest/gtest.h>
+
+namespace treeskel {
+namespace {
+
+/// 0 - 1 - 2, and 1 - 3 - 4: one branch point (1), three endpoints (0, 2, 4).
+Skeleton small_tree() {
+  Skeleton s;
+  for (int i = 0; i < 5; ++i) {
+    SkeletonNode n;
+    n.position = Eigen::Vector3d(i, 0, 0);
+    n.points = {static_cast<std::uint32_t>(i)};
+    add_node(s, n);
+  }
+  boost::add_edge(0, 1, s.graph);
+  boost::add_edge(1, 2, s.graph);
+  boost::add_edge(1, 3, s.graph);
+  boost::add_edge(3, 4, s.graph);
+  return s;
+}
+
+TEST(Skeleton, CountsBranchPointsAndEndpoints) {
+  const Skeleton s = small_tree();
+  EXPECT_EQ(count_branch_points(s.graph), 1u);
+  EXPECT_EQ(count_endpoints(s.graph), 3u);
+  EXPECT_TRUE(is_tree(s.graph));
+  EXPECT_DOUBLE_EQ(total_length(s.graph), 1.0 + 1.0 + 2.0 + 1.0);
+}
+
+TEST(Skeleton, DetectsCyclesAndSplits) {
+  Skeleton cycle = small_tree();
+  boost::add_edge(2, 4, cycle.graph);
+  EXPECT_FALSE(is_tree(cycle.graph));
+  EXPECT_EQ(validate(cycle, 5), "the skeleton has a cycle");
+
+  Skeleton split = small_tree();
+  boost::remove_edge(1, 3, split.graph);
+  EXPECT_EQ(count_components(split.graph), 2u);
+  EXPECT_EQ(validate(split, 5), "the skeleton is not connected");
+
+  Skeleton loop = small_tree();
+  boost::remove_edge(3, 4, loop.graph);
+  boost::add_edge(4, 4, loop.graph);
+  EXPECT_FALSE(is_tree(loop.graph));
+}
+
+TEST(Skeleton, ValidateChecksPointOwnership) {
+  Skeleton s = small_tree();
+  EXPECT_EQ(validate(s, 5), "");
+  EXPECT_EQ(validate(s, 6), "point 5 is claimed 0 times");
+  s.noise_points = {5};
+  EXPECT_EQ(validate(s, 6), "");
+  s[0].points.push_back(2);
+  EXPECT_EQ(validate(s, 6), "point 2 is claimed 2 times");
+}
+
+TEST(Skeleton, ParentsAndOrderFromRoot) {
+  const Skeleton s = small_tree();
+  const auto parent = parents_from_root(s.graph, 0);
+  EXPECT_EQ(parent, (std::vector<NodeId>{0, 0, 1, 1, 3}));
+  const auto order = bfs_order(s.graph, 4);
+  EXPECT_EQ(order.front(), 4u);
+  EXPECT_EQ(order.size(), 5u);
+}
+
+TEST(Skeleton, CompactKeepsEdgesBetweenKeptNodes) {
+  Skeleton s = small_tree();
+  s.root = 4;
+  const auto remap = compact_nodes(s, {true, true, false, true, true});
+  EXPECT_EQ(remap, (std::vector<std::int64_t>{0, 1, -1, 2, 3}));
+  EXPECT_EQ(s.node_count(), 4u);
+  EXPECT_EQ(s.edge_count(), 3u);
+  EXPECT_EQ(s.root, 3u);
+  EXPECT_EQ(s[2].position, Eigen::Vector3d(3, 0, 0));
+  EXPECT_TRUE(is_tree(s.graph));
+}
+
+}  // namespace
+}  // namespace treeskel
