@@ -11,15 +11,15 @@
 namespace treeskel {
 namespace {
 
-using test::Cylinder;
+using test::tube;
 
 /// A short piece of cylinder surface seen from +x only (half of it missing).
 PointCloud half_ring(unsigned seed) {
-  test::SampleOptions o;
+  eval::SurfaceSampling o;
   o.points = 600;
   o.seed = seed;
   o.facing = Eigen::Vector3d::UnitX();
-  return test::sample_cylinders({Cylinder{{0, 0, 0}, {0, 0, 0.05}, 0.1}}, o);
+  return eval::sample_cylinders({tube({0, 0, 0}, {0, 0, 0.05}, 0.1)}, o);
 }
 
 TEST(Cpc, RecentresAHalfScannedSliceOntoTheAxis) {
@@ -45,9 +45,9 @@ TEST(Cpc, WeightZeroKeepsTheStart) {
 }
 
 TEST(Cpc, FullRingStaysAtItsCentre) {
-  test::SampleOptions o;
+  eval::SurfaceSampling o;
   o.points = 500;
-  const PointCloud cloud = test::sample_cylinders({Cylinder{{0, 0, 0}, {0, 0, 0.05}, 0.1}}, o);
+  const PointCloud cloud = eval::sample_cylinders({tube({0, 0, 0}, {0, 0, 0.05}, 0.1)}, o);
   std::vector<std::uint32_t> idx(cloud.size());
   std::iota(idx.begin(), idx.end(), 0u);
   const Eigen::Vector3d cpc = cpc_centre(cloud.positions, idx.data(), idx.data() + idx.size(), Eigen::Vector3d(0.02, 0.01, 0.02));
@@ -57,19 +57,19 @@ TEST(Cpc, FullRingStaysAtItsCentre) {
 TEST(Cpc, PipelineRecentresAOneSidedCylinder) {
   // A branch scanned from one side: CPC brings the skeleton under 20% of the radius from the axis,
   // while the plain L1-medians stay more than 40% off.
-  const Cylinder c{{0, 0, 0}, {0, 0, 1}, 0.06};
-  test::SampleOptions o;
+  const auto c = tube({0, 0, 0}, {0, 0, 1}, 0.06);
+  eval::SurfaceSampling o;
   o.points = 12000;
   o.facing = Eigen::Vector3d::UnitX();
-  const PointCloud cloud = test::sample_cylinders({c}, o);
+  const PointCloud cloud = eval::sample_cylinders({c}, o);
   SkeletonOptions with;
   with.use_refine = false;
   SkeletonOptions without = with;
   without.use_cpc = false;
-  const double cpc = test::mean_distance_to_axis(extract_skeleton(cloud, with), c.a, c.b);
-  const double l1 = test::mean_distance_to_axis(extract_skeleton(cloud, without), c.a, c.b);
-  EXPECT_LT(cpc, 0.2 * c.radius);
-  EXPECT_GT(l1, 0.4 * c.radius);
+  const double cpc = test::mean_distance_to_axis(extract_skeleton(cloud, with), c);
+  const double l1 = test::mean_distance_to_axis(extract_skeleton(cloud, without), c);
+  EXPECT_LT(cpc, 0.2 * c.radius_a);
+  EXPECT_GT(l1, 0.4 * c.radius_a);
 }
 
 }  // namespace

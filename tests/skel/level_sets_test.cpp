@@ -7,7 +7,7 @@
 namespace treeskel {
 namespace {
 
-using test::Cylinder;
+using test::tube;
 
 Skeleton initial_skeleton(const PointCloud& cloud) {
   const OctreeCells cells = build_octree_cells(cloud, {});
@@ -18,10 +18,10 @@ Skeleton initial_skeleton(const PointCloud& cloud) {
 }
 
 TEST(LevelSets, CylinderGivesOneNodePerBandUpItsAxis) {
-  const Cylinder c{{0, 0, 0}, {0, 0, 1}, 0.05};
-  test::SampleOptions o;
+  const auto c = tube({0, 0, 0}, {0, 0, 1}, 0.05);
+  eval::SurfaceSampling o;
   o.points = 8000;
-  const PointCloud cloud = test::sample_cylinders({c}, o);
+  const PointCloud cloud = eval::sample_cylinders({c}, o);
   const Skeleton s = initial_skeleton(cloud);
   EXPECT_EQ(validate(s, cloud.size()), "");
   // One node per band of width 2 cells along the axis (the geodesic distance on the surface is the
@@ -34,7 +34,7 @@ TEST(LevelSets, CylinderGivesOneNodePerBandUpItsAxis) {
   for (NodeId v = 0; v < s.node_count(); ++v) {
     if (v == s.root || s[v].position.z() > 1.0 - 3 * band) continue;
     EXPECT_GT(s[v].position.z(), s[parent[v]].position.z());
-    EXPECT_LT(s[v].position.head<2>().norm(), 0.25 * c.radius);
+    EXPECT_LT(s[v].position.head<2>().norm(), 0.25 * c.radius_a);
   }
   // Radii by eq. 9 are close to the cylinder's (a band is a short tube, so slightly above r).
   for (NodeId v = 0; v < s.node_count(); ++v)
@@ -50,10 +50,10 @@ TEST(LevelSets, MeanDistanceIsEquationNine) {
 }
 
 TEST(LevelSets, UnreachedCellsBecomeNoise) {
-  const Cylinder c{{0, 0, 0}, {0, 0, 1}, 0.05};
-  test::SampleOptions o;
+  const auto c = tube({0, 0, 0}, {0, 0, 1}, 0.05);
+  eval::SurfaceSampling o;
   o.points = 4000;
-  PointCloud cloud = test::sample_cylinders({c}, o);
+  PointCloud cloud = eval::sample_cylinders({c}, o);
   for (int i = 0; i < 5; ++i) cloud.positions.emplace_back(0.5 + 0.001 * i, 0.5, 0.5);  // a far tuft
   const Skeleton s = initial_skeleton(cloud);
   EXPECT_EQ(s.noise_points.size(), 5u);

@@ -12,37 +12,39 @@
 namespace treeskel {
 namespace {
 
-using test::Cylinder;
+using test::tube;
 
 TEST(Pipeline, StraightCylinderGivesOneCentredChain) {
-  const Cylinder c{{0, 0, 0}, {0, 0, 1}, 0.05};
-  test::SampleOptions o;
+  const auto c = tube({0, 0, 0}, {0, 0, 1}, 0.05);
+  eval::SurfaceSampling o;
   o.points = 10000;
-  const PointCloud cloud = test::sample_cylinders({c}, o);
+  const PointCloud cloud = eval::sample_cylinders({c}, o);
   const Skeleton s = extract_skeleton(cloud);
   EXPECT_EQ(validate(s, cloud.size()), "");
   EXPECT_EQ(count_branch_points(s.graph), 0u);
   EXPECT_EQ(count_endpoints(s.graph), 2u);
-  EXPECT_LT(test::mean_distance_to_axis(s, c.a, c.b), 0.05 * c.radius);
+  EXPECT_LT(test::mean_distance_to_axis(s, c), 0.05 * c.radius_a);
 }
 
 TEST(Pipeline, YShapeGivesOneBranchPointAtTheFork) {
   const Eigen::Vector3d fork(0, 0, 1);
   const double r = 0.06;
-  const std::vector<Cylinder> y{{{0, 0, 0}, fork, 0.08},
-                                {fork, fork + 0.7 * Eigen::Vector3d(1, 0, 1).normalized(), r},
-                                {fork, fork + 0.7 * Eigen::Vector3d(-1, 0, 1).normalized(), r}};
+  const std::vector<eval::Cylinder> y{tube({0, 0, 0}, fork, 0.08),
+                                      tube(fork, fork + 0.7 * Eigen::Vector3d(1, 0, 1).normalized(), r),
+                                      tube(fork, fork + 0.7 * Eigen::Vector3d(-1, 0, 1).normalized(), r)};
   for (unsigned seed = 1; seed <= 3; ++seed) {
-    test::SampleOptions o;
+    eval::SurfaceSampling o;
     o.points = 15000;
     o.seed = seed;
-    const PointCloud cloud = test::sample_cylinders(y, o);
+    const PointCloud cloud = eval::sample_cylinders(y, o);
     const Skeleton s = extract_skeleton(cloud);
     EXPECT_EQ(validate(s, cloud.size()), "");
     ASSERT_EQ(count_branch_points(s.graph), 1u) << "seed " << seed;
     EXPECT_EQ(count_endpoints(s.graph), 3u);
     for (NodeId v = 0; v < s.node_count(); ++v)
-      if (boost::degree(v, s.graph) >= 3) EXPECT_LT((s[v].position + s.offset - fork).norm(), 0.08) << "seed " << seed;
+      if (boost::degree(v, s.graph) >= 3) {
+        EXPECT_LT((s[v].position + s.offset - fork).norm(), 0.08) << "seed " << seed;
+      }
   }
 }
 

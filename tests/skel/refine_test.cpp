@@ -9,16 +9,16 @@
 namespace treeskel {
 namespace {
 
-using test::Cylinder;
+using test::tube;
 
 /// A fork node placed too high: it holds the points of two separate branch pieces whose centres are
 /// far from it; each child branch hangs below one of the pieces.
 TEST(Refine, SplitsAForkWhoseClustersLieFarApart) {
-  test::SampleOptions o;
+  eval::SurfaceSampling o;
   o.points = 400;
-  PointCloud cloud = test::sample_cylinders({Cylinder{{-0.5, 0, 1.0}, {-0.5, 0, 1.1}, 0.05}}, o);
+  PointCloud cloud = eval::sample_cylinders({tube({-0.5, 0, 1.0}, {-0.5, 0, 1.1}, 0.05)}, o);
   o.seed = 2;
-  const PointCloud right = test::sample_cylinders({Cylinder{{0.5, 0, 1.0}, {0.5, 0, 1.1}, 0.05}}, o);
+  const PointCloud right = eval::sample_cylinders({tube({0.5, 0, 1.0}, {0.5, 0, 1.1}, 0.05)}, o);
   cloud.positions.insert(cloud.positions.end(), right.positions.begin(), right.positions.end());
 
   Skeleton s;
@@ -56,9 +56,9 @@ TEST(Refine, SplitsAForkWhoseClustersLieFarApart) {
 TEST(Refine, KeepsAForkWhoseClustersAreClose) {
   // Two children of a thick node whose points form one ring around it: no cluster centre is farther
   // than the Leonardo threshold.
-  test::SampleOptions o;
+  eval::SurfaceSampling o;
   o.points = 800;
-  const PointCloud cloud = test::sample_cylinders({Cylinder{{0, 0, 1.0}, {0, 0, 1.1}, 0.1}}, o);
+  const PointCloud cloud = eval::sample_cylinders({tube({0, 0, 1.0}, {0, 0, 1.1}, 0.1)}, o);
   Skeleton s;
   SkeletonNode base, fork, a, b;
   fork.position = {0, 0, 1.05};

@@ -1,6 +1,7 @@
-// Synthetic shapes with known skeletons for the tests, and helpers to measure against them.
+// Helpers shared by the tests: synthetic shapes with known skeletons, bundled data, temporary folders.
 #pragma once
 
+#include "treeskel/eval/cylinders.h"
 #include "treeskel/point_cloud.h"
 #include "treeskel/skeleton.h"
 
@@ -12,29 +13,21 @@
 
 namespace treeskel::test {
 
-/// A solid cylinder from `a` to `b`.
-struct Cylinder {
-  Eigen::Vector3d a, b;
-  double radius;
-};
+/// A cylinder of constant radius.
+inline eval::Cylinder tube(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double radius) {
+  return {a, b, radius, radius};
+}
 
-struct SampleOptions {
-  std::size_t points = 10000;
-  unsigned seed = 1;
-  double noise = 0.0;  ///< Gaussian noise along the surface normal, standard deviation
-  /// When set, only the side of each cylinder that faces this direction is kept (a single scanner).
-  std::optional<Eigen::Vector3d> facing;
-};
+/// Sampling with a point count and a seed.
+inline eval::SurfaceSampling sampling(std::size_t points, std::uint64_t seed = 1) {
+  eval::SurfaceSampling s;
+  s.points = points;
+  s.seed = seed;
+  return s;
+}
 
-/// Points on the lateral surfaces of the cylinders, spread by area, without the points that fall
-/// inside another cylinder (no points inside the wood at junctions). Deterministic for a seed.
-PointCloud sample_cylinders(const std::vector<Cylinder>& cylinders, const SampleOptions& options);
-
-/// Distance from p to the segment [a, b].
-double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
-
-/// Mean distance of the skeleton's nodes (local frame + offset) to the segment.
-double mean_distance_to_axis(const Skeleton& skeleton, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
+/// Mean distance of the skeleton's nodes (local frame + offset) to the cylinder's axis segment.
+double mean_distance_to_axis(const Skeleton& skeleton, const eval::Cylinder& cylinder);
 
 /// Path of a bundled example cloud.
 std::string data_file(const std::string& name);
