@@ -9,6 +9,7 @@
 #include "treeskel/pipeline.h"
 
 #include <nlohmann/json.hpp>
+#include <sys/resource.h>
 
 #include <filesystem>
 #include <iostream>
@@ -103,6 +104,9 @@ int run(Settings& s) {
     j["endpoints"] = endpoints;
     j["length"] = total_length(skeleton.graph);
     j["seconds"] = seconds;
+    struct rusage usage {};
+    ::getrusage(RUSAGE_SELF, &usage);
+    j["peak_memory_mb"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
     j["left_out"] = {{"total", skeleton.left_out.total()},
                      {"small_clusters", skeleton.left_out.small_clusters},
                      {"far_parts", skeleton.left_out.far_parts}};
