@@ -32,6 +32,7 @@ struct CpcOptions {
   int max_iterations = 50;     ///< Newton steps at most
   double tolerance = 1e-6;     ///< stop when a step is shorter than this times the mean distance
   std::size_t min_points = 8;  ///< nodes with fewer points keep their position
+  std::size_t max_points = 4096;  ///< larger sets are thinned to about this many at an even stride
   /// A result farther than this many mean distances from the start is refused, and the node keeps
   /// its position.
   double max_shift = 1.5;

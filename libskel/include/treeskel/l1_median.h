@@ -12,7 +12,10 @@ namespace treeskel {
 
 struct L1MedianOptions {
   int max_iterations = 64;     ///< Weiszfeld steps at most
-  double tolerance = 1e-7;     ///< stop when a step is shorter than this times the points' extent
+  double tolerance = 1e-4;     ///< stop when a step is shorter than this times the points' extent
+  /// Larger sets are thinned to about this many points, taken at an even stride, before iterating:
+  /// the median of a few thousand points of a branch slice is as good and keeps the cost bounded.
+  std::size_t max_points = 4096;
 };
 
 /// L1-median of `positions[i]` for `i` in [first, last). Returns the origin for an empty range.
