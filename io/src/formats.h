@@ -20,6 +20,8 @@ void write_las(std::ostream& out, const PointCloud& cloud);
 
 /// Appends the shortest decimal text that reads back to exactly `value`.
 void append_number(std::string& out, double value);
+/// Appends point i as one text line: world x y z, then nx ny nz and red green blue where present.
+void append_point_line(std::string& out, const PointCloud& cloud, std::size_t i);
 /// Parses a whole token as a number ("+1.5", "1e-3", "nan" accepted; "1.5x" refused).
 bool parse_number(std::string_view token, double& value);
 

@@ -313,25 +313,14 @@ void write_ply(std::ostream& out, const PointCloud& cloud, bool binary) {
     else buffer.append(b, n);
   };
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const Eigen::Vector3d p = cloud.positions[i] + cloud.offset;
     if (binary) {
+      const Eigen::Vector3d p = cloud.positions[i] + cloud.offset;
       for (int a = 0; a < 3; ++a) put(&p[a], 8);
       if (cloud.has_normals())
         for (int a = 0; a < 3; ++a) put(&cloud.normals[i][a], 4);
       if (cloud.has_colors()) buffer.append(reinterpret_cast<const char*>(cloud.colors[i].data()), 3);
     } else {
-      for (int a = 0; a < 3; ++a) {
-        if (a) buffer += ' ';
-        append_number(buffer, p[a]);
-      }
-      if (cloud.has_normals())
-        for (int a = 0; a < 3; ++a) {
-          buffer += ' ';
-          append_number(buffer, cloud.normals[i][a]);
-        }
-      if (cloud.has_colors())
-        for (int a = 0; a < 3; ++a) buffer += ' ' + std::to_string(cloud.colors[i][a]);
-      buffer += '\n';
+      append_point_line(buffer, cloud, i);
     }
     if (buffer.size() > (1u << 20)) {
       out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));

@@ -10,6 +10,22 @@ void append_number(std::string& out, double value) {
   out.append(buffer, result.ptr);
 }
 
+void append_point_line(std::string& out, const PointCloud& cloud, std::size_t i) {
+  const Eigen::Vector3d p = cloud.positions[i] + cloud.offset;
+  for (int a = 0; a < 3; ++a) {
+    if (a) out += ' ';
+    append_number(out, p[a]);
+  }
+  if (cloud.has_normals())
+    for (int a = 0; a < 3; ++a) {
+      out += ' ';
+      append_number(out, cloud.normals[i][a]);
+    }
+  if (cloud.has_colors())
+    for (int a = 0; a < 3; ++a) out += ' ' + std::to_string(cloud.colors[i][a]);
+  out += '\n';
+}
+
 bool parse_number(std::string_view token, double& value) {
   if (!token.empty() && token.front() == '+') token.remove_prefix(1);
   if (token.empty()) return false;

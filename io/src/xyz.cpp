@@ -119,24 +119,15 @@ void write_xyz(std::ostream& out, const PointCloud& cloud) {
   if (cloud.has_normals()) header += " nx ny nz";
   if (cloud.has_colors()) header += " red green blue";
   out << header << '\n';
-  std::string line;
+  std::string buffer;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
-    line.clear();
-    const Eigen::Vector3d p = cloud.positions[i] + cloud.offset;
-    for (int a = 0; a < 3; ++a) {
-      if (a) line += ' ';
-      append_number(line, p[a]);
+    append_point_line(buffer, cloud, i);
+    if (buffer.size() > (1u << 20)) {
+      out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      buffer.clear();
     }
-    if (cloud.has_normals())
-      for (int a = 0; a < 3; ++a) {
-        line += ' ';
-        append_number(line, cloud.normals[i][a]);
-      }
-    if (cloud.has_colors())
-      for (int a = 0; a < 3; ++a) line += ' ' + std::to_string(cloud.colors[i][a]);
-    line += '\n';
-    out << line;
   }
+  out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
 }
 
 }  // namespace treeskel::io::detail
