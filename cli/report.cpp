@@ -8,8 +8,11 @@ namespace treeskel::cli {
 
 Progress::Progress(bool quiet) : active_(!quiet && ::isatty(STDERR_FILENO)) {}
 
-Progress::~Progress() {
+Progress::~Progress() { clear(); }
+
+void Progress::clear() {
   if (drawn_) std::fprintf(stderr, "\r\033[K");
+  drawn_ = false;
 }
 
 void Progress::operator()(const std::string& stage, double done) {

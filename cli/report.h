@@ -12,6 +12,8 @@ public:
   explicit Progress(bool quiet);
   ~Progress();
   void operator()(const std::string& stage, double done);
+  /// Erases the progress line (before the summary is printed).
+  void clear();
   bool active() const { return active_; }
 
 private:

@@ -90,6 +90,7 @@ int run(Settings& s) {
   progress("writing " + fs::path(s.output).filename().string(), 0.97);
   io::write_skeleton(s.output, skeleton);
   const double seconds = clock.seconds();
+  progress.clear();
 
   const std::size_t branch_points = count_branch_points(skeleton.graph);
   const std::size_t endpoints = count_endpoints(skeleton.graph);
