@@ -161,10 +161,15 @@ Command add_skeletonize(CLI::App& app) {
   c->add_option("--root", s->root, "Point 'x,y,z' (input frame) where the tree stands (default: lowest part of the cloud)")->group(g);
   c->add_option("--root-slice", o.root.slice, "Thickness of the trunk base slice the geodesic distance starts from (0: one cell)")
       ->default_val(o.root.slice)->group(g);
-  c->add_option("--depth", o.octree.depth, "Octree depth (0: the paper's 2 + log8 N, rounded down)")
+  c->add_option("--depth", o.octree.depth, "Octree depth (0: the deepest whose cells hold --cell-points points on average)")
       ->default_val(o.octree.depth)->check(CLI::Range(0, 21))->group(g);
+  c->add_option("--cell-points", o.octree.points_per_cell,
+                "Mean points per octree cell that sets the depth (0: the paper's depth, 2 + log8 N)")
+      ->default_val(o.octree.points_per_cell)->check(CLI::NonNegativeNumber)->group(g);
   c->add_option("--neighbours", s->neighbours, "Neighbour graph: 'octree' (26-adjacent cells) or 'knn' (k nearest skeleton points)")
       ->default_val("octree")->check(CLI::IsMember({"octree", "knn"}))->group(g);
+  c->add_option("--reach", o.graph.reach, "With --neighbours octree: cells this many cells apart are neighbours (1: the paper's 26)")
+      ->default_val(o.graph.reach)->check(CLI::Range(1, 3))->group(g);
   c->add_option("-k", o.graph.k, "Neighbours per skeleton point with --neighbours knn")->default_val(o.graph.k)
       ->check(CLI::Range(1, 1000))->group(g);
   c->add_option("--bridge", o.graph.bridge_distance,
@@ -175,9 +180,9 @@ Command add_skeletonize(CLI::App& app) {
       ->default_val(o.graph.small_cluster_fraction)->check(CLI::Range(0.0, 1.0))->group(g);
   c->add_option("--band", o.level_sets.band_width, "Width of a level set band of geodesic distance (0: 2 cells)")
       ->default_val(o.level_sets.band_width)->check(CLI::NonNegativeNumber)->group(g);
-  c->add_option("--prune-length", o.prune.min_length, "Remove leaf branches shorter than this (0: 2 bands)")
+  c->add_option("--prune-length", o.prune.min_length, "Remove leaf branches shorter than this (0: 1 band)")
       ->default_val(o.prune.min_length)->check(CLI::NonNegativeNumber)->group(g);
-  c->add_option("--prune-radius", o.prune.radius_factor, "... or shorter than this many radii of the branch they leave")
+  c->add_option("--prune-radius", o.prune.radius_factor, "... or that stay within this many radii of the branch they leave")
       ->default_val(o.prune.radius_factor)->check(CLI::NonNegativeNumber)->group(g);
   c->add_option("--cpc-weight", o.cpc.weight, "Weight w of the equal-distance (cylinder) term of CPC")
       ->default_val(o.cpc.weight)->check(CLI::NonNegativeNumber)->group(g);

@@ -2,8 +2,8 @@
 
 #include "treeskel/error.h"
 
-#include <CGAL/Fuzzy_sphere.h>
 #include <CGAL/Kd_tree.h>
+#include <CGAL/Orthogonal_incremental_neighbor_search.h>
 #include <CGAL/Orthogonal_k_neighbor_search.h>
 #include <CGAL/Search_traits_3.h>
 #include <CGAL/Search_traits_adapter.h>
@@ -27,7 +27,7 @@ using PointMap = CGAL::Pointer_property_map<Point>::type;
 using Traits = CGAL::Search_traits_adapter<std::uint32_t, PointMap, CGAL::Search_traits_3<Kernel>>;
 using KnnSearch = CGAL::Orthogonal_k_neighbor_search<Traits>;
 using Tree = KnnSearch::Tree;
-using Sphere = CGAL::Fuzzy_sphere<Traits>;
+using IncrementalSearch = CGAL::Orthogonal_incremental_neighbor_search<Traits>;
 
 /// Kd-tree over the cell medians, indexed by cell id.
 struct MedianIndex {
@@ -66,14 +66,14 @@ private:
 
 using Adjacency = std::vector<std::vector<std::uint32_t>>;
 
-Adjacency octree_adjacency(const OctreeCells& cells) {
+Adjacency octree_adjacency(const OctreeCells& cells, int reach) {
   Adjacency adj(cells.cell_count());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.cell_count(), 512), [&](const auto& range) {
     for (std::size_t c = range.begin(); c != range.end(); ++c) {
       const Eigen::Vector3i g = cells.coordinates(c);
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
+      for (int dz = -reach; dz <= reach; ++dz)
+        for (int dy = -reach; dy <= reach; ++dy)
+          for (int dx = -reach; dx <= reach; ++dx) {
             if (dx == 0 && dy == 0 && dz == 0) continue;
             const auto other = cells.find(g + Eigen::Vector3i(dx, dy, dz));
             if (other >= 0) adj[c].push_back(static_cast<std::uint32_t>(other));
@@ -118,33 +118,55 @@ std::vector<std::uint32_t> components_of(const Adjacency& adj) {
   return label;
 }
 
-/// Joins parts closer than `distance` by their shortest links, Kruskal-style over the parts.
-std::size_t bridge_parts(const OctreeCells& cells, Adjacency& adj, double distance) {
+/// Joins parts of the graph by their shortest links, Kruskal-style over the parts. Parts closer than
+/// `near` are joined whatever their size; parts of at least `min_points` points also when they are
+/// up to `far` apart (a branch cut off by an occlusion). Each part looks for its nearest foreign cell
+/// from up to `probes` of its cells, spread evenly over it.
+std::size_t bridge_parts(const OctreeCells& cells, Adjacency& adj, double near, double far, std::size_t min_points) {
+  const std::size_t probes = 64;
   const auto label = components_of(adj);
-  std::vector<std::size_t> part_points(adj.size(), 0);
-  for (std::size_t c = 0; c < adj.size(); ++c) part_points[label[c]] += cells.point_count(c);
+  std::vector<std::size_t> part_points(adj.size(), 0), part_cells(adj.size(), 0);
+  for (std::size_t c = 0; c < adj.size(); ++c) {
+    part_points[label[c]] += cells.point_count(c);
+    ++part_cells[label[c]];
+  }
   const auto largest = static_cast<std::uint32_t>(
       std::max_element(part_points.begin(), part_points.end()) - part_points.begin());
-  if (std::count_if(label.begin(), label.end(), [&](auto l) { return l != largest; }) == 0) return 0;
+  if (part_cells[largest] == adj.size()) return 0;
 
   const MedianIndex index(cells);
   using Link = std::tuple<double, std::uint32_t, std::uint32_t>;
-  std::vector<std::vector<Link>> found(adj.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, adj.size(), 256), [&](const auto& range) {
-    std::vector<std::uint32_t> hits;
-    for (std::size_t c = range.begin(); c != range.end(); ++c) {
-      if (label[c] == largest) continue;
-      hits.clear();
-      index.tree->search(std::back_inserter(hits), Sphere(index.points[c], distance, 0.0, Traits(index.map())));
-      for (auto o : hits) {
+  // Probe cells: every cell of small parts, an even selection of the cells of large ones.
+  std::vector<std::uint32_t> probe;
+  std::vector<std::size_t> seen(adj.size(), 0);
+  for (std::size_t c = 0; c < adj.size(); ++c) {
+    const auto l = label[c];
+    if (l == largest) continue;
+    const std::size_t stride = std::max<std::size_t>(1, part_cells[l] / probes);
+    if (seen[l]++ % stride == 0) probe.push_back(static_cast<std::uint32_t>(c));
+  }
+  std::vector<Link> found(probe.size(), Link{-1.0, 0, 0});
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probe.size(), 16), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const auto c = probe[i];
+      const bool big = part_points[label[c]] >= min_points;
+      const double reach = big ? far : near;
+      IncrementalSearch search(*index.tree, index.points[c], 0.0, true, IncrementalSearch::Distance(index.map()));
+      for (auto it = search.begin(); it != search.end(); ++it) {
+        const double d = std::sqrt(it->second);
+        if (d > reach) break;
+        const auto o = it->first;
         if (label[o] == label[c]) continue;
-        const double d = (cells.medians[c] - cells.medians[o]).norm();
-        if (d <= distance) found[c].emplace_back(d, static_cast<std::uint32_t>(c), o);
+        // A far link must land on a part that is large too: noise does not join across a gap.
+        if (d > near && part_points[label[o]] < min_points) continue;
+        found[i] = Link{(cells.medians[c] - cells.medians[o]).norm(), c, o};
+        break;
       }
     }
   });
   std::vector<Link> links;
-  for (auto& f : found) links.insert(links.end(), f.begin(), f.end());
+  for (const auto& f : found)
+    if (std::get<0>(f) >= 0.0) links.push_back(f);
   std::sort(links.begin(), links.end());
   DisjointSets parts(adj.size());
   std::size_t added = 0;
@@ -160,10 +182,14 @@ std::size_t bridge_parts(const OctreeCells& cells, Adjacency& adj, double distan
 }  // namespace
 
 CellGraph build_neighbour_graph(const OctreeCells& cells, const NeighbourGraphOptions& options) {
-  Adjacency adj = options.mode == NeighbourMode::knn ? knn_adjacency(cells, options.k) : octree_adjacency(cells);
+  if (options.reach < 1 || options.reach > 3)
+    throw OptionError("the octree neighbour reach must be 1, 2 or 3 cells, got " + std::to_string(options.reach));
+  Adjacency adj = options.mode == NeighbourMode::knn ? knn_adjacency(cells, options.k) : octree_adjacency(cells, options.reach);
   CellGraph graph;
   const double bridge = options.bridge_distance == 0.0 ? 4.0 * cells.cell_size : options.bridge_distance;
-  if (bridge > 0.0) graph.bridges = bridge_parts(cells, adj, bridge);
+  const double far = options.far_bridge_distance == 0.0 ? 0.1 * cells.cube_size : options.far_bridge_distance;
+  const auto min_points = static_cast<std::size_t>(options.far_bridge_fraction * static_cast<double>(cells.point_order.size()));
+  if (bridge > 0.0) graph.bridges = bridge_parts(cells, adj, bridge, std::max(far, bridge), std::max<std::size_t>(min_points, 10));
 
   const double shortest = 1e-9 * cells.cell_size;  // keeps Dijkstra's weights positive
   graph.offsets.reserve(adj.size() + 1);

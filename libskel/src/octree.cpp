@@ -44,7 +44,7 @@ Eigen::Vector3i morton_decode(std::uint64_t key) {
           static_cast<int>(compact_bits(key >> 2))};
 }
 
-int default_octree_depth(std::size_t point_count) {
+int paper_octree_depth(std::size_t point_count) {
   if (point_count < 2) return 1;
   const double d = 2.0 + std::log(static_cast<double>(point_count)) / std::log(8.0);
   return std::clamp(static_cast<int>(std::floor(d + 1e-9)), 1, 21);
@@ -64,35 +64,56 @@ std::int64_t OctreeCells::find(const Eigen::Vector3i& c) const {
 OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& options) {
   if (cloud.empty()) throw InputError("the point cloud is empty");
   if (options.depth < 0 || options.depth > 21)
-    throw OptionError("octree depth must be between 1 and 21 (0 for the default), got " +
-                      std::to_string(options.depth));
+    throw OptionError("octree depth must be between 1 and 21 (0 for the default), got " + std::to_string(options.depth));
   OctreeCells cells;
-  cells.depth = options.depth > 0 ? options.depth : default_octree_depth(cloud.size());
   const Eigen::AlignedBox3d box = bounding_box(cloud);
   cells.origin = box.min();
   cells.cube_size = std::max(box.sizes().maxCoeff(), 1e-300);
-  const std::uint32_t resolution = 1u << cells.depth;
-  cells.cell_size = cells.cube_size / resolution;
 
+  // Morton keys at the finest depth, sorted once: the cells of any coarser depth are runs of keys that
+  // share a prefix, so every depth can be counted from this one sort.
+  constexpr int finest = 21;
   const std::size_t n = cloud.size();
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
-  const double inv = 1.0 / cells.cell_size;
+  const double resolution = static_cast<double>(1u << finest);
+  const double inv = resolution / cells.cube_size;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const Eigen::Vector3d g = (cloud.positions[i] - cells.origin) * inv;
       std::uint32_t c[3];
-      for (int a = 0; a < 3; ++a)
-        c[a] = static_cast<std::uint32_t>(std::clamp(std::floor(g[a]), 0.0, double(resolution - 1)));
+      for (int a = 0; a < 3; ++a) c[a] = static_cast<std::uint32_t>(std::clamp(std::floor(g[a]), 0.0, resolution - 1.0));
       keyed[i] = {morton_encode(c[0], c[1], c[2]), static_cast<std::uint32_t>(i)};
     }
   });
   tbb::parallel_sort(keyed.begin(), keyed.end());  // keys with indices are unique: deterministic
 
+  if (options.depth > 0) {
+    cells.depth = options.depth;
+  } else {
+    const int paper = paper_octree_depth(n);
+    cells.depth = paper;
+    if (options.points_per_cell > 0.0) {
+      const int deepest = std::min(finest, paper + std::max(0, options.max_extra_depth));
+      std::vector<std::size_t> occupied(deepest + 1, 0);
+      for (std::size_t i = 0; i < n; ++i)
+        for (int d = 1; d <= deepest; ++d) {
+          const int shift = 3 * (finest - d);
+          if (i == 0 || (keyed[i].first >> shift) != (keyed[i - 1].first >> shift)) ++occupied[d];
+        }
+      cells.depth = 1;
+      for (int d = 1; d <= deepest; ++d)
+        if (static_cast<double>(n) / static_cast<double>(occupied[d]) >= options.points_per_cell) cells.depth = d;
+    }
+  }
+  cells.cell_size = cells.cube_size / static_cast<double>(1u << cells.depth);
+  const int shift = 3 * (finest - cells.depth);
+
   cells.point_order.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     cells.point_order[i] = keyed[i].second;
-    if (i == 0 || keyed[i].first != keyed[i - 1].first) {
-      cells.keys.push_back(keyed[i].first);
+    const std::uint64_t key = keyed[i].first >> shift;
+    if (i == 0 || key != (keyed[i - 1].first >> shift)) {
+      cells.keys.push_back(key);
       cells.first.push_back(static_cast<std::uint32_t>(i));
     }
   }

@@ -4,8 +4,19 @@
 
 namespace treeskel {
 
+namespace {
+
+double point_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+}  // namespace
+
 std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const PruneOptions& options) {
-  const double min_length = options.min_length > 0.0 ? options.min_length : 2.0 * band_width;
+  const double min_length = options.min_length > 0.0 ? options.min_length : band_width;
   std::size_t removed_total = 0;
   for (;;) {
     auto& g = skeleton.graph;
@@ -40,20 +51,61 @@ std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const Pr
       if (children[leaf.fork].size() >= 2) leaves_at[leaf.fork].push_back(std::move(leaf));
     }
 
+    // The branch a leaf leaves: a few nodes of the fork's parent chain and of its other children.
+    auto host_segments = [&](NodeId fork, const Leaf& leaf, std::vector<double>& radii) {
+      std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
+      radii.assign(1, g[fork].radius);
+      NodeId u = fork;
+      for (int k = 0; k < options.host_nodes && u != skeleton.root; ++k) {
+        segments.emplace_back(g[u].position, g[parent[u]].position);
+        u = parent[u];
+        radii.push_back(g[u].radius);
+      }
+      for (NodeId c : children[fork]) {
+        if (c == leaf.nodes.back()) continue;
+        NodeId w = fork;
+        for (int k = 0; k < options.host_nodes; ++k) {
+          const NodeId next = k == 0 ? c : (children[w].size() == 1 ? children[w].front() : w);
+          if (next == w) break;
+          segments.emplace_back(g[w].position, g[next].position);
+          radii.push_back(g[next].radius);
+          w = next;
+        }
+      }
+      if (segments.empty()) segments.emplace_back(g[fork].position, g[fork].position);
+      return segments;
+    };
+
     std::vector<bool> keep(n, true);
     std::size_t removed = 0;
+    std::vector<double> radii;
     for (NodeId fork = 0; fork < n; ++fork) {
       auto& leaves = leaves_at[fork];
       if (leaves.empty()) continue;
-      const double limit = std::max(min_length, options.radius_factor * g[fork].radius);
       std::sort(leaves.begin(), leaves.end(), [](const Leaf& a, const Leaf& b) {
         return a.length > b.length || (a.length == b.length && a.nodes.front() < b.nodes.front());
       });
       // A fork whose children are all leaves keeps the longest one: it continues the branch.
       const bool all_leaves = leaves.size() == children[fork].size();
       for (std::size_t i = all_leaves ? 1 : 0; i < leaves.size(); ++i) {
-        if (leaves[i].length >= limit) continue;
-        for (auto u : leaves[i].nodes) {
+        const Leaf& leaf = leaves[i];
+        bool spurious = leaf.length < min_length;
+        if (!spurious) {
+          // A leaf that never leaves the volume of the branch it grows on is a piece of that branch's
+          // surface, not a branch.
+          const auto segments = host_segments(fork, leaf, radii);
+          std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
+          const double host_radius = radii[radii.size() / 2];
+          double reach = 0.0;
+          for (NodeId u : leaf.nodes) {
+            double d = 1e300;
+            for (const auto& [a, b] : segments) d = std::min(d, point_segment(g[u].position, a, b));
+            reach = std::max(reach, d);
+          }
+          spurious = reach < options.radius_factor * host_radius + 0.5 * band_width;
+        }
+        if (!spurious) continue;
+        for (auto u : leaf.nodes) {
           auto& pts = g[fork].points;
           pts.insert(pts.end(), g[u].points.begin(), g[u].points.end());
           keep[u] = false;

@@ -119,6 +119,34 @@ TEST(Cli, BadInputFailsWithAMessageAndWritesNothing) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir.root()), fs::directory_iterator()), 5);
 }
 
+TEST(Cli, SynthWritesTheBenchmarkAndEvalScoresIt) {
+  const test::TempDir dir;
+  const Result synth = run("synth " + quoted(dir.path("bench")) + " --seed 3 -q");
+  ASSERT_EQ(synth.code, 0) << synth.out;
+  std::size_t clouds = 0, truths = 0;
+  for (const auto& entry : fs::directory_iterator(dir.path("bench"))) {
+    const std::string name = entry.path().filename().string();
+    clouds += entry.path().extension() == ".xyz";
+    truths += name.find("_truth.") != std::string::npos;
+  }
+  EXPECT_EQ(clouds, 72u);
+  EXPECT_EQ(truths, 12u);
+  // The ground truth scored against itself is perfect; a skeleton of one of its clouds is close.
+  const std::string truth = quoted(dir.path("bench/tree2_truth.json"));
+  const Result self = run("eval " + truth + " " + quoted(dir.path("bench/tree2_truth.ply")) + " --json");
+  ASSERT_EQ(self.code, 0) << self.out;
+  const auto j = nlohmann::json::parse(self.out);
+  EXPECT_EQ(j["spd"], 0.0);
+  EXPECT_EQ(j["bpc"], 1.0);
+  EXPECT_EQ(j["branch_points"]["truth"], 11);
+  const std::string predicted = quoted(dir.path("tree2.ply"));
+  ASSERT_EQ(run("skeletonize " + quoted(dir.path("bench/tree2_16647.xyz")) + " -o " + predicted + " -q").code, 0);
+  const Result scored = run("eval " + predicted + " " + truth);
+  ASSERT_EQ(scored.code, 0) << scored.out;
+  EXPECT_NE(scored.out.find("BPC"), std::string::npos);
+  EXPECT_EQ(run("eval " + quoted(dir.path("none.ply")) + " " + truth).code, 1);
+}
+
 TEST(Cli, UsageErrorsAndHelp) {
   EXPECT_EQ(run("").code, 2);
   EXPECT_EQ(run("skeletonize --depth 40").code, 2);

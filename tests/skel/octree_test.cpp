@@ -21,12 +21,29 @@ TEST(Octree, MortonRoundTrips) {
   EXPECT_EQ(morton_encode(0, 0, 1), 4u);
 }
 
-TEST(Octree, DefaultDepthIsTwoPlusLog8) {
-  EXPECT_EQ(default_octree_depth(1), 1);
-  EXPECT_EQ(default_octree_depth(8), 3);
-  EXPECT_EQ(default_octree_depth(4096), 6);
-  EXPECT_EQ(default_octree_depth(1000000), 8);  // 2 + 6.64
-  EXPECT_EQ(default_octree_depth(14045), 6);    // 2 + 4.59
+TEST(Octree, PaperDepthIsTwoPlusLog8) {
+  EXPECT_EQ(paper_octree_depth(1), 1);
+  EXPECT_EQ(paper_octree_depth(8), 3);
+  EXPECT_EQ(paper_octree_depth(4096), 6);
+  EXPECT_EQ(paper_octree_depth(1000000), 8);  // 2 + 6.64
+  EXPECT_EQ(paper_octree_depth(14045), 6);    // 2 + 4.59
+}
+
+TEST(Octree, DefaultDepthFollowsThePointDensity) {
+  // 20,000 points on a unit square: 4^d cells at depth d hold 20000 / 4^d points each.
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  PointCloud square;
+  for (int i = 0; i < 20000; ++i) square.positions.emplace_back(u(rng), u(rng), 0.0);
+  const OctreeCells cells = build_octree_cells(square, {});
+  EXPECT_EQ(cells.depth, 6);  // 20000 / 4096 = 4.9 points a cell; depth 7 would give 1.2
+  EXPECT_GE(20000.0 / cells.cell_count(), 2.5);
+  OctreeOptions paper;
+  paper.points_per_cell = 0.0;
+  EXPECT_EQ(build_octree_cells(square, paper).depth, paper_octree_depth(20000));
+  OctreeOptions capped;
+  capped.points_per_cell = 0.5;  // would go to depth 8 or more, but only 1 beyond the paper's 6
+  EXPECT_EQ(build_octree_cells(square, capped).depth, 7);
 }
 
 TEST(Octree, EveryPointIsInExactlyOneCellThatContainsIt) {
@@ -35,7 +52,7 @@ TEST(Octree, EveryPointIsInExactlyOneCellThatContainsIt) {
   PointCloud cloud;
   for (int i = 0; i < 5000; ++i) cloud.positions.emplace_back(u(rng), u(rng) * 0.5, u(rng) * 0.2);
   const OctreeCells cells = build_octree_cells(cloud, {});
-  EXPECT_EQ(cells.depth, default_octree_depth(5000));
+  EXPECT_GE(5000.0 / cells.cell_count(), 2.5);
   std::vector<int> seen(cloud.size(), 0);
   for (std::size_t c = 0; c < cells.cell_count(); ++c) {
     EXPECT_GT(cells.point_count(c), 0u);

@@ -19,9 +19,17 @@ enum class NeighbourMode {
 struct NeighbourGraphOptions {
   NeighbourMode mode = NeighbourMode::octree;
   int k = 26;  ///< neighbours per skeleton point in `knn` mode
+  /// In `octree` mode, cells up to this many cells apart along each axis are neighbours: 1 is the
+  /// paper's 26-neighbourhood; 2 (124 neighbours) keeps sparsely sampled surfaces connected.
+  int reach = 1;
   /// Parts of the graph whose closest skeleton points are at most this far apart are joined by an
   /// edge (occlusion gaps). 0 (default): 4 cell sizes. Negative: never bridge.
   double bridge_distance = 0.0;
+  /// Parts that hold at least `far_bridge_fraction` of the points are also joined across gaps up to
+  /// this long (a branch cut off by an occlusion); smaller parts are not, so noise does not become
+  /// branches. 0 (default): a tenth of the cloud's size.
+  double far_bridge_distance = 0.0;
+  double far_bridge_fraction = 0.002;
   /// After bridging, a part that is not the tree and holds fewer than this share of the points is
   /// reported as a small isolated cluster (noise); a larger one as a far part. Both are left out.
   double small_cluster_fraction = 0.01;

@@ -17,8 +17,15 @@
 namespace treeskel {
 
 struct OctreeOptions {
-  /// Subdivision depth. 0 (default): the paper's `2 + log8 N` for N points, rounded down, in [1, 21].
+  /// Subdivision depth in [1, 21]. 0 (default): chosen from the data, see `points_per_cell`.
   int depth = 0;
+  /// With depth 0, the deepest depth whose non-empty cells hold on average at least this many points,
+  /// but no deeper than `max_extra_depth` beyond the paper's `2 + log8 N`. The paper's fixed depth
+  /// leaves ~1 point per cell on thick, sparsely sampled stems, whose level sets then fall apart, or
+  /// ~10 on thin twigs, which it cannot resolve; a density target works for both.
+  /// 0: the paper's depth, ⌊2 + log8 N⌋.
+  double points_per_cell = 2.5;
+  int max_extra_depth = 1;
   L1MedianOptions median;  ///< Weiszfeld settings for the per-cell L1-medians
 };
 
@@ -44,7 +51,7 @@ struct OctreeCells {
 };
 
 /// The paper's default depth `2 + log8 n`, rounded down, kept in [1, 21].
-int default_octree_depth(std::size_t point_count);
+int paper_octree_depth(std::size_t point_count);
 
 /// Interleaves the low 21 bits of x, y and z.
 std::uint64_t morton_encode(std::uint32_t x, std::uint32_t y, std::uint32_t z);

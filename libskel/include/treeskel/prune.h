@@ -1,8 +1,10 @@
 /// @file prune.h
-/// Removal of spurious twigs. A band that cuts a branch surface near a tip, or a tuft of noise, breaks
-/// into small pieces that the level sets turn into short side branches. The paper sets no threshold
-/// for them; this stage removes leaf branches shorter than a length relative to the branch they leave
-/// and gives their points to the fork node, so no point is lost.
+/// Removal of spurious twigs. Where a branch surface is sparsely sampled, or near a tip, or in a tuft
+/// of noise, a band breaks into pieces that the level sets turn into short side branches lying on the
+/// surface of the branch they leave. The paper sets no threshold for them; this stage removes a leaf
+/// branch that is shorter than a minimum length or that never reaches farther from the branch it
+/// leaves than that branch's radius (times a factor), and gives its points to the fork node, so no
+/// point is lost.
 #pragma once
 
 #include "treeskel/skeleton.h"
@@ -10,13 +12,16 @@
 namespace treeskel {
 
 struct PruneOptions {
-  /// A leaf branch (from its fork to its tip) shorter than this is removed. 0 (default): 2 band widths.
+  /// A leaf branch (from its fork to its tip) shorter than this is removed. 0 (default): 1 band width.
   double min_length = 0.0;
-  /// ... or shorter than this many times the radius of the fork node it leaves.
+  /// ... or one whose nodes all stay within this many radii (plus half a band) of the branch it
+  /// leaves: the axis through a few nodes below the fork and along its other children, whose median
+  /// radius is the host radius.
   double radius_factor = 1.5;
+  int host_nodes = 4;  ///< nodes of each neighbouring chain that define the host branch
 };
 
-/// Removes short leaf branches until none is left; where every child of a fork is short, the longest
+/// Removes spurious leaf branches until none is left; where every child of a fork is short, the longest
 /// stays (it is the continuation of the branch). Returns the number of branches removed.
 /// @param[in] band_width  the level sets' band width, which scales the default `min_length`
 std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const PruneOptions& options = {});
