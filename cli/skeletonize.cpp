@@ -159,7 +159,7 @@ Command add_skeletonize(CLI::App& app) {
   auto* g = "Method";
   c->add_option("--up", s->up, "Axis the tree grows along: x, y, z, -x, -y, -z or 'x,y,z'")->default_val("z")->group(g);
   c->add_option("--root", s->root, "Point 'x,y,z' (input frame) where the tree stands (default: lowest part of the cloud)")->group(g);
-  c->add_option("--root-slice", o.root.slice, "Thickness of the trunk base slice the geodesic distance starts from (0: one cell)")
+  c->add_option("--root-slice", o.root.slice, "Thickness of the trunk base slice the geodesic distance starts from (0: two cells)")
       ->default_val(o.root.slice)->group(g);
   c->add_option("--depth", o.octree.depth, "Octree depth (0: the deepest whose cells hold --cell-points points on average)")
       ->default_val(o.octree.depth)->check(CLI::Range(0, 21))->group(g);

@@ -86,13 +86,16 @@ private:
     return side * length * uniform(-0.08, 0.08);
   }
 
-  /// Smallest distance from the new chord (beyond its first 30%) to the chords of other branches.
+  /// Smallest distance from the new chord (beyond its first 30%) to the chords of the other branches
+  /// (its parent and siblings, which share its start, are checked beyond their first 30% too).
   double clearance(const Eigen::Vector3d& a, const Eigen::Vector3d& b, int parent) const {
     double best = 1e9;
     for (std::size_t i = 0; i < branches_.size(); ++i) {
       const auto& o = branches_[i];
-      if (static_cast<int>(i) == parent || o.parent == parent) continue;
-      for (int k = 3; k <= 10; ++k) best = std::min(best, point_segment(a + (b - a) * (k / 10.0), o.start, o.end));
+      const bool shares_start = static_cast<int>(i) == parent || o.parent == parent;
+      const Eigen::Vector3d from = shares_start ? o.start + 0.3 * (o.end - o.start) : o.start;
+      const Eigen::Vector3d to = static_cast<int>(i) == parent ? o.start + 0.7 * (o.end - o.start) : o.end;
+      for (int k = 3; k <= 10; ++k) best = std::min(best, point_segment(a + (b - a) * (k / 10.0), from, to));
     }
     return best;
   }
@@ -108,7 +111,7 @@ private:
       child.start = parent.end;
       Eigen::Vector3d best_dir = d;
       double best_length = 0.0, best_clear = -1.0;
-      for (int attempt = 0; attempt < 12; ++attempt) {
+      for (int attempt = 0; attempt < 40; ++attempt) {
         const bool leader = j == 0;
         const double angle = (leader ? uniform(4.0, 16.0) : uniform(28.0, 52.0)) * M_PI / 180.0;
         const double azimuth =
@@ -123,7 +126,7 @@ private:
           best_dir = dir;
           best_length = length;
         }
-        if (clear > 0.25 * length) break;
+        if (clear > 0.45 * length) break;
       }
       child.length = best_length;
       child.end = child.start + best_dir * best_length;

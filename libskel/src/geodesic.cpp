@@ -29,7 +29,7 @@ std::vector<std::uint32_t> select_root_cells(const OctreeCells& cells, const Cel
   TREESKEL_REQUIRE(best >= 0, "no cell is in the tree");
   if (options.point) return {static_cast<std::uint32_t>(best)};
 
-  const double slice = options.slice > 0.0 ? options.slice : cells.cell_size;
+  const double slice = options.slice > 0.0 ? options.slice : 2.0 * cells.cell_size;
   const double top = cells.medians[best].dot(up) + slice;
   std::vector<bool> taken(n, false);
   std::vector<std::uint32_t> roots{static_cast<std::uint32_t>(best)};

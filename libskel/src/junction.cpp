@@ -33,8 +33,9 @@ std::size_t relocate_forks(Skeleton& skeleton, double band_width, const Junction
   auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
   if (n < 4) return 0;
-  const double arm = options.arm_length > 0.0 ? options.arm_length : 5.0 * band_width;
-  const double skip = options.skip > 0.0 ? options.skip : band_width;
+  // Arms scale with the band and with the branch below the fork: a thick stem's junction region is long.
+  auto arm_of = [&](double radius) { return options.arm_length > 0.0 ? options.arm_length : std::max(5.0 * band_width, 3.0 * radius); };
+  auto skip_of = [&](double radius) { return options.skip > 0.0 ? options.skip : std::max(band_width, radius); };
   std::vector<NodeId> parent = parents_from_root(g, skeleton.root);
   std::vector<std::vector<NodeId>> children(n);
   for (NodeId v = 0; v < n; ++v)
@@ -68,6 +69,7 @@ std::size_t relocate_forks(Skeleton& skeleton, double band_width, const Junction
   for (NodeId f : bfs_order(g, skeleton.root)) {
     if (!keep[f] || f == skeleton.root || children[f].size() < 2) continue;
     const Eigen::Vector3d origin = g[f].position;
+    const double arm = arm_of(g[parent[f]].radius), skip = skip_of(g[parent[f]].radius);
     std::vector<Line> lines;
     // The parent arm, walking down to the root or the previous fork.
     std::vector<Eigen::Vector3d> nodes;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace treeskel {
@@ -48,52 +49,140 @@ Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, c
     }
   }
   // Number the components in cell order of their representative (the smallest cell id).
-  std::vector<std::int64_t> node_of(n, -1);
+  std::vector<std::int64_t> comp_of(n, -1);
   std::vector<std::vector<std::uint32_t>> members;
   for (std::size_t c = 0; c < n; ++c) {
     if (band[c] < 0) continue;
     const auto r = find(static_cast<std::uint32_t>(c));
-    if (node_of[r] < 0) {
-      node_of[r] = static_cast<std::int64_t>(members.size());
+    if (comp_of[r] < 0) {
+      comp_of[r] = static_cast<std::int64_t>(members.size());
       members.emplace_back();
     }
-    node_of[c] = node_of[r];
-    members[node_of[c]].push_back(static_cast<std::uint32_t>(c));
+    comp_of[c] = comp_of[r];
+    members[comp_of[c]].push_back(static_cast<std::uint32_t>(c));
   }
   TREESKEL_REQUIRE(!members.empty(), "no cell was reached from the root");
+  const std::size_t m = members.size();
 
-  Skeleton skeleton;
-  skeleton.offset = cloud.offset;
-  std::vector<SkeletonNode> nodes(members.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, members.size(), 16), [&](const auto& range) {
-    for (std::size_t k = range.begin(); k != range.end(); ++k) {
-      auto& node = nodes[k];
-      for (auto c : members[k]) node.points.insert(node.points.end(), cells.begin(c), cells.end(c));
-      std::sort(node.points.begin(), node.points.end());
-      node.position = l1_median(cloud.positions, node.points.data(), node.points.data() + node.points.size(),
-                                options.median);
-      node.radius = mean_distance(cloud.positions, node.points, node.position);
-    }
-  });
-  for (auto& node : nodes) add_node(skeleton, node);
-
+  // Each component hangs from the lower component it shares the most graph edges with (the band just
+  // below first): the branch it grows out of. Only the root component, which holds the root cells,
+  // has none. Every other one has at least its lowest cell's shortest-path predecessor below it.
+  std::vector<std::int64_t> below(m, -1);
+  std::vector<std::int64_t> comp_band(m);
   std::int64_t root = -1;
-  for (std::size_t k = 0; k < members.size(); ++k) {
+  std::vector<std::pair<std::int64_t, std::uint32_t>> links;  // (lower component, edges), per component
+  for (std::size_t k = 0; k < m; ++k) {
     const auto lowest = *std::min_element(members[k].begin(), members[k].end(), [&](auto a, auto b) {
       return geodesic.distance[a] < geodesic.distance[b] || (geodesic.distance[a] == geodesic.distance[b] && a < b);
     });
+    comp_band[k] = band[lowest];
     const auto pred = geodesic.predecessor[lowest];
     if (pred < 0) {
       TREESKEL_REQUIRE(root < 0, "the root cells span more than one band component");
       root = static_cast<std::int64_t>(k);
       continue;
     }
-    const auto up = node_of[pred];
-    TREESKEL_REQUIRE(up >= 0 && up != static_cast<std::int64_t>(k), "a band component has no lower neighbour");
-    boost::add_edge(k, static_cast<std::size_t>(up), skeleton.graph);
+    links.clear();
+    for (auto c : members[k])
+      for (auto e = graph.offsets[c]; e < graph.offsets[c + 1]; ++e) {
+        const auto o = graph.targets[e];
+        if (band[o] < 0 || band[o] >= comp_band[k]) continue;
+        links.emplace_back(comp_of[o], 1);
+      }
+    std::sort(links.begin(), links.end());
+    std::int64_t best = comp_of[pred];
+    std::int64_t best_band = -1;
+    std::size_t best_count = 0;
+    for (std::size_t i = 0; i < links.size();) {
+      std::size_t j = i;
+      while (j < links.size() && links[j].first == links[i].first) ++j;
+      const auto candidate = links[i].first;
+      const auto candidate_band = band[members[candidate].front()];
+      if (candidate_band > best_band || (candidate_band == best_band && j - i > best_count)) {
+        best = candidate;
+        best_band = candidate_band;
+        best_count = j - i;
+      }
+      i = j;
+    }
+    below[k] = best;
+    TREESKEL_REQUIRE(below[k] >= 0 && below[k] != static_cast<std::int64_t>(k), "a band component has no lower neighbour");
   }
   TREESKEL_REQUIRE(root >= 0, "no band component holds the root");
-  skeleton.root = static_cast<NodeId>(root);
+
+  // Band by band, from the root up: siblings of one band (components hanging from the same node) that
+  // lie closer to each other than a share of that node's radius are pieces of one ring broken by sparse
+  // sampling, and become one node. A real fork's branches part by more than that a band or two higher.
+  std::vector<std::uint32_t> merged_into(m);
+  std::iota(merged_into.begin(), merged_into.end(), 0u);
+  auto owner = [&](std::uint32_t k) {
+    while (merged_into[k] != k) k = merged_into[k] = merged_into[merged_into[k]];
+    return k;
+  };
+  std::vector<SkeletonNode> nodes(m);
+  auto make_node = [&](std::uint32_t k) {
+    auto& node = nodes[k];
+    node.points.clear();
+    for (auto c : members[k]) node.points.insert(node.points.end(), cells.begin(c), cells.end(c));
+    std::sort(node.points.begin(), node.points.end());
+    node.position = l1_median(cloud.positions, node.points.data(), node.points.data() + node.points.size(), options.median);
+    node.radius = mean_distance(cloud.positions, node.points, node.position);
+  };
+  std::vector<std::uint32_t> order(m);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return comp_band[a] < comp_band[b]; });
+  for (std::size_t first = 0; first < m;) {
+    std::size_t last = first;
+    while (last < m && comp_band[order[last]] == comp_band[order[first]]) ++last;
+    // Siblings of this band, grouped by the (final) node they hang from.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> by_parent;  // (parent, component)
+    for (std::size_t i = first; i < last; ++i) {
+      const auto k = order[i];
+      if (below[k] >= 0) {
+        below[k] = owner(static_cast<std::uint32_t>(below[k]));
+        by_parent.emplace_back(static_cast<std::uint32_t>(below[k]), k);
+      }
+    }
+    std::sort(by_parent.begin(), by_parent.end());
+    if (options.join_factor > 0.0)
+      for (std::size_t i = 0; i < by_parent.size();) {
+        std::size_t j = i;
+        while (j < by_parent.size() && by_parent[j].first == by_parent[i].first) ++j;
+        const double limit = options.join_factor * nodes[by_parent[i].first].radius;
+        for (std::size_t a = i; a < j; ++a)
+          for (std::size_t b = a + 1; b < j; ++b) {
+            const auto ka = owner(by_parent[a].second), kb = owner(by_parent[b].second);
+            if (ka == kb) continue;
+            double gap = std::numeric_limits<double>::infinity();
+            for (auto ca : members[ka])
+              for (auto cb : members[kb]) gap = std::min(gap, (cells.medians[ca] - cells.medians[cb]).norm());
+            if (gap >= limit) continue;
+            const auto keep = std::min(ka, kb), gone = std::max(ka, kb);
+            members[keep].insert(members[keep].end(), members[gone].begin(), members[gone].end());
+            members[gone].clear();
+            merged_into[gone] = keep;
+          }
+        i = j;
+      }
+    std::vector<std::uint32_t> band_nodes;
+    for (std::size_t i = first; i < last; ++i)
+      if (owner(order[i]) == order[i]) band_nodes.push_back(order[i]);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, band_nodes.size(), 4), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) make_node(band_nodes[i]);
+    });
+    first = last;
+  }
+
+  Skeleton skeleton;
+  skeleton.offset = cloud.offset;
+  std::vector<std::int64_t> node_id(m, -1);
+  for (std::size_t k = 0; k < m; ++k)
+    if (owner(static_cast<std::uint32_t>(k)) == k) node_id[k] = static_cast<std::int64_t>(add_node(skeleton, nodes[k]));
+  for (std::size_t k = 0; k < m; ++k)
+    if (node_id[k] >= 0 && below[k] >= 0)
+      boost::add_edge(static_cast<std::size_t>(node_id[k]), static_cast<std::size_t>(node_id[owner(static_cast<std::uint32_t>(below[k]))]),
+                      skeleton.graph);
+  skeleton.root = static_cast<NodeId>(node_id[root]);
 
   for (std::size_t c = 0; c < n; ++c)
     if (band[c] < 0) skeleton.noise_points.insert(skeleton.noise_points.end(), cells.begin(c), cells.end(c));

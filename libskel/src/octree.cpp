@@ -94,15 +94,33 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
     cells.depth = paper;
     if (options.points_per_cell > 0.0) {
       const int deepest = std::min(finest, paper + std::max(0, options.max_extra_depth));
-      std::vector<std::size_t> occupied(deepest + 1, 0);
-      for (std::size_t i = 0; i < n; ++i)
-        for (int d = 1; d <= deepest; ++d) {
-          const int shift = 3 * (finest - d);
-          if (i == 0 || (keyed[i].first >> shift) != (keyed[i - 1].first >> shift)) ++occupied[d];
-        }
+      // The population of the cell a typical point lies in (the point-weighted median of the cell
+      // counts): unlike the mean, it ignores stray outliers that sit alone in their cells.
       cells.depth = 1;
-      for (int d = 1; d <= deepest; ++d)
-        if (static_cast<double>(n) / static_cast<double>(occupied[d]) >= options.points_per_cell) cells.depth = d;
+      std::vector<std::size_t> counts;
+      for (int d = 1; d <= deepest; ++d) {
+        const int shift = 3 * (finest - d);
+        counts.clear();
+        std::size_t run = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+          if (i > 0 && (keyed[i].first >> shift) != (keyed[i - 1].first >> shift)) {
+            counts.push_back(run);
+            run = 0;
+          }
+          ++run;
+        }
+        counts.push_back(run);
+        std::sort(counts.begin(), counts.end());
+        std::size_t seen = 0, typical = 0;
+        for (auto c : counts) {
+          seen += c;
+          if (2 * seen >= n) {
+            typical = c;
+            break;
+          }
+        }
+        if (static_cast<double>(typical) >= options.points_per_cell) cells.depth = d;
+      }
     }
   }
   cells.cell_size = cells.cube_size / static_cast<double>(1u << cells.depth);

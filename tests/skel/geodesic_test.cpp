@@ -28,12 +28,12 @@ TEST(Geodesic, DistanceFollowsTheGraphNotTheStraightLine) {
   const LShape l;
   const auto main = select_main_part(l.cells, l.graph);
   const auto roots = select_root_cells(l.cells, l.graph, main.in_tree, {});
-  ASSERT_EQ(roots.size(), 2u);  // the slice is one cell thick: z = 0.5 and 1.5 are within it
+  ASSERT_EQ(roots.size(), 3u);  // the slice is two cells thick: z = 0.5, 1.5 and 2.5 are within it
   const auto geo = geodesic_distance(l.graph, roots);
   const auto tip = l.cells.find({9, 0, 9});
-  // From the slice top (z 1.5) up to z 8.5 is 7, a diagonal step cuts the corner (sqrt 2), then 8
-  // along x: the straight line would be about 12.3.
-  EXPECT_NEAR(geo.distance[tip], 15.0 + std::sqrt(2.0), 1e-9);
+  // From the slice top (z 2.5) up to z 8.5 is 6, a diagonal step cuts the corner (sqrt 2), then 8
+  // along x: the straight line would be about 11.4.
+  EXPECT_NEAR(geo.distance[tip], 14.0 + std::sqrt(2.0), 1e-9);
   const auto pin = l.cells.find({15, 0, 0});
   EXPECT_TRUE(std::isinf(geo.distance[pin]));
   EXPECT_EQ(geo.predecessor[pin], -1);
@@ -59,7 +59,8 @@ TEST(Geodesic, RootPointAndUpAxisChooseTheStart) {
   RootOptions sideways;
   sideways.up = -Eigen::Vector3d::UnitX();  // "lowest" is now the largest x
   const auto side_roots = select_root_cells(l.cells, l.graph, main.in_tree, sideways);
-  EXPECT_EQ(side_roots.front(), std::min(l.cells.find({8, 0, 9}), l.cells.find({9, 0, 9})));
+  ASSERT_EQ(side_roots.size(), 3u);  // x = 9.5, 8.5 and 7.5
+  EXPECT_EQ(side_roots.front(), std::min({l.cells.find({7, 0, 9}), l.cells.find({8, 0, 9}), l.cells.find({9, 0, 9})}));
 }
 
 }  // namespace

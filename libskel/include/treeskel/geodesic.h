@@ -19,7 +19,7 @@ struct RootOptions {
   /// Where the tree stands, in the local frame. Unset (default): at the lowest skeleton point.
   std::optional<Eigen::Vector3d> point;
   /// The root is the slice of the trunk base this thick along `up`, so that the level sets start as
-  /// level cuts through the trunk. 0 (default): one cell size.
+  /// level cuts through the trunk. 0 (default): two cell sizes (one band).
   double slice = 0.0;
 };
 

@@ -12,9 +12,11 @@
 namespace treeskel {
 
 struct JunctionOptions {
-  /// Length of each arm used to fit its axis. 0 (default): 5 band widths.
+  /// Length of each arm used to fit its axis. 0 (default): 5 band widths or 3 radii of the branch
+  /// below the fork, whichever is longer.
   double arm_length = 0.0;
-  /// Arm part next to the fork left out of the fit (the junction bends it). 0 (default): 1 band width.
+  /// Arm part next to the fork left out of the fit (the junction bends it). 0 (default): 1 band width
+  /// or 1 radius of the branch below the fork, whichever is longer.
   double skip = 0.0;
   /// Largest move, in radii of the branch below the fork (plus one band width).
   double max_move_radii = 2.5;

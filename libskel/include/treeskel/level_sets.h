@@ -21,12 +21,17 @@ struct LevelSetOptions {
   /// cross-section of a branch surface stays connected in the octree's neighbour graph.
   double band_width = 0.0;
   L1MedianOptions median;  ///< for the node positions
+  /// Components of one band that hang from the same node and come closer to each other than this
+  /// share of that node's radius are one ring broken by sparse sampling, and make one node; a real
+  /// fork's branches part by more a band or two higher. 0: never join.
+  double join_factor = 0.5;
 };
 
 /// One node per (band, branch): at the L1-median of the points of its cells, with the radius of eq. 9
 /// (mean distance of those points to the node). Each node hangs from the node that holds the
 /// shortest-path predecessor of its lowest cell, so the result is a tree rooted at the band of the
-/// root cells. Points of cells outside `in_tree` or not reached become noise.
+/// root cells; close siblings are joined (see `join_factor`). Points of cells outside `in_tree` or not
+/// reached become noise.
 Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, const CellGraph& graph,
                             const std::vector<bool>& in_tree, const GeodesicField& geodesic,
                             const LevelSetOptions& options = {});

@@ -19,12 +19,13 @@ namespace treeskel {
 struct OctreeOptions {
   /// Subdivision depth in [1, 21]. 0 (default): chosen from the data, see `points_per_cell`.
   int depth = 0;
-  /// With depth 0, the deepest depth whose non-empty cells hold on average at least this many points,
-  /// but no deeper than `max_extra_depth` beyond the paper's `2 + log8 N`. The paper's fixed depth
-  /// leaves ~1 point per cell on thick, sparsely sampled stems, whose level sets then fall apart, or
-  /// ~10 on thin twigs, which it cannot resolve; a density target works for both.
+  /// With depth 0, the deepest depth at which the cell of a typical point (the point-weighted median
+  /// of the cell populations, blind to lone outliers) holds at least this many points, but no deeper
+  /// than `max_extra_depth` beyond the paper's `2 + log8 N`. The paper's fixed depth leaves ~1 point
+  /// per cell on sparsely sampled stems, whose level sets then fall apart, or many on dense clouds of
+  /// thin twigs, which it cannot resolve; a density target works for both.
   /// 0: the paper's depth, ⌊2 + log8 N⌋.
-  double points_per_cell = 2.5;
+  double points_per_cell = 3.0;
   int max_extra_depth = 1;
   L1MedianOptions median;  ///< Weiszfeld settings for the per-cell L1-medians
 };
