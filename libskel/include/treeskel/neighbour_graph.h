@@ -27,7 +27,7 @@ struct NeighbourGraphOptions {
   double bridge_distance = 0.0;
   /// Parts that hold at least `far_bridge_fraction` of the points are also joined across gaps up to
   /// this long (a branch cut off by an occlusion); smaller parts are not, so noise does not become
-  /// branches. 0 (default): a tenth of the cloud's size.
+  /// branches. 0 (default): a tenth of the cloud's size. Negative: no far bridging.
   double far_bridge_distance = 0.0;
   double far_bridge_fraction = 0.002;
   /// After bridging, a part that is not the tree and holds fewer than this share of the points is

@@ -1,0 +1,51 @@
+// A quality regression guard: a few of the benchmark's clouds (seed 1), skeletonized with the default
+// options, must keep scoring about what they scored when the thresholds were set (measured values
+// less a margin; the full benchmark is bench/accuracy.cpp). It catches a stage that breaks.
+#include "treeskel/eval/metrics.h"
+#include "treeskel/eval/paper_trees.h"
+#include "treeskel/pipeline.h"
+
+#include <gtest/gtest.h>
+
+namespace treeskel::eval {
+namespace {
+
+struct Expectation {
+  const char* cloud;
+  double max_spd, min_bpc, min_epc, min_bp_precision, min_ep_precision;
+};
+
+class AccuracyRegression : public ::testing::TestWithParam<Expectation> {};
+
+TEST_P(AccuracyRegression, KeepsItsScores) {
+  const Expectation& e = GetParam();
+  const int tree = e.cloud[4] - '0';
+  const GroundTruth truth = make_paper_tree(tree, 1);
+  for (auto& c : make_paper_clouds(truth, tree, 1)) {
+    if (c.name != e.cloud) continue;
+    recentre_offset(c.cloud);
+    const Skeleton s = extract_skeleton(c.cloud);
+    EXPECT_EQ(validate(s, c.cloud.size()), "");
+    const Metrics m = evaluate(s, truth.skeleton);
+    EXPECT_LE(m.spd, e.max_spd);
+    EXPECT_GE(m.bpc, e.min_bpc);
+    EXPECT_GE(m.epc, e.min_epc);
+    EXPECT_GE(m.bp_precision, e.min_bp_precision);
+    EXPECT_GE(m.ep_precision, e.min_ep_precision);
+    return;
+  }
+  FAIL() << "no cloud named " << e.cloud;
+}
+
+// Measured when set: tree2_16647 SPD 0.0010, BPC/EPC/precisions 1.0; tree1_noise_2 0.0024, 1.0, 1.0,
+// 0.70, 0.69; tree4_missing_1 0.0034, 0.94, 0.94, 0.90, 0.98; tree3_vdensity_1 0.0020, 1.0, 1.0,
+// 0.92, 0.89.
+INSTANTIATE_TEST_SUITE_P(Benchmark, AccuracyRegression,
+                         ::testing::Values(Expectation{"tree2_16647", 0.003, 0.9, 0.9, 0.9, 0.9},
+                                           Expectation{"tree1_noise_2", 0.005, 0.9, 0.9, 0.6, 0.6},
+                                           Expectation{"tree4_missing_1", 0.007, 0.85, 0.85, 0.8, 0.85},
+                                           Expectation{"tree3_vdensity_1", 0.004, 0.9, 0.9, 0.8, 0.8}),
+                         [](const auto& info) { return std::string(info.param.cloud); });
+
+}  // namespace
+}  // namespace treeskel::eval
