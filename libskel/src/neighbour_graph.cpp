@@ -121,9 +121,11 @@ std::vector<std::uint32_t> components_of(const Adjacency& adj) {
 /// Joins parts of the graph by their shortest links, Kruskal-style over the parts. Parts closer than
 /// `near` are joined whatever their size; parts of at least `min_points` points also when they are
 /// up to `far` apart (a branch cut off by an occlusion). Each part looks for its nearest foreign cell
-/// from up to `probes` of its cells, spread evenly over it.
+/// from up to `probes` of its cells, spread evenly over it, each looking at its nearest few hundred
+/// cells at most.
 std::size_t bridge_parts(const OctreeCells& cells, Adjacency& adj, double near, double far, std::size_t min_points) {
   const std::size_t probes = 64;
+  const std::size_t max_visits = 256;  // a probe deep inside its own part gives up; one near its edge does not
   const auto label = components_of(adj);
   std::vector<std::size_t> part_points(adj.size(), 0), part_cells(adj.size(), 0);
   for (std::size_t c = 0; c < adj.size(); ++c) {
@@ -152,7 +154,8 @@ std::size_t bridge_parts(const OctreeCells& cells, Adjacency& adj, double near, 
       const bool big = part_points[label[c]] >= min_points;
       const double reach = big ? far : near;
       IncrementalSearch search(*index.tree, index.points[c], 0.0, true, IncrementalSearch::Distance(index.map()));
-      for (auto it = search.begin(); it != search.end(); ++it) {
+      std::size_t visited = 0;
+      for (auto it = search.begin(); it != search.end() && visited++ < max_visits; ++it) {
         const double d = std::sqrt(it->second);
         if (d > reach) break;
         const auto o = it->first;
