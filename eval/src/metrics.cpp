@@ -1,5 +1,7 @@
 #include "treeskel/eval/metrics.h"
 
+#include "treeskel/geometry.h"
+
 #include <CGAL/AABB_segment_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -24,13 +26,6 @@ std::vector<Eigen::Vector3d> nodes_of_degree(const Skeleton& s, bool branch) {
   return out;
 }
 
-double point_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * ab)).norm();
-}
-
 }  // namespace
 
 double skeleton_point_deviation(const Skeleton& from, const Skeleton& to) {
@@ -39,7 +34,7 @@ double skeleton_point_deviation(const Skeleton& from, const Skeleton& to) {
   if (to.edge_count() == 0) {  // a lone node: distances to it
     for (NodeId v = 0; v < from.node_count(); ++v) {
       double best = std::numeric_limits<double>::infinity();
-      for (NodeId w = 0; w < to.node_count(); ++w) best = std::min(best, point_segment(world(from, v), world(to, w), world(to, w)));
+      for (NodeId w = 0; w < to.node_count(); ++w) best = std::min(best, point_segment_distance(world(from, v), world(to, w), world(to, w)));
       sum += best;
     }
     return sum / static_cast<double>(from.node_count());

@@ -1,5 +1,7 @@
 #include "treeskel/eval/paper_trees.h"
 
+#include "treeskel/geometry.h"
+
 #include "treeskel/error.h"
 
 #include <Eigen/Geometry>
@@ -27,12 +29,6 @@ struct Branch {
   Eigen::Vector3d at(double s) const { return (1 - s) * (1 - s) * start + 2 * s * (1 - s) * control + s * s * end; }
   Eigen::Vector3d end_direction() const { return (end - control).normalized(); }
 };
-
-double point_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-  return (p - (a + t * ab)).norm();
-}
 
 class TreeGrower {
 public:
@@ -95,7 +91,7 @@ private:
       const bool shares_start = static_cast<int>(i) == parent || o.parent == parent;
       const Eigen::Vector3d from = shares_start ? o.start + 0.3 * (o.end - o.start) : o.start;
       const Eigen::Vector3d to = static_cast<int>(i) == parent ? o.start + 0.7 * (o.end - o.start) : o.end;
-      for (int k = 3; k <= 10; ++k) best = std::min(best, point_segment(a + (b - a) * (k / 10.0), from, to));
+      for (int k = 3; k <= 10; ++k) best = std::min(best, point_segment_distance(a + (b - a) * (k / 10.0), from, to));
     }
     return best;
   }

@@ -1,19 +1,10 @@
 #include "treeskel/prune.h"
 
+#include "treeskel/geometry.h"
+
 #include <algorithm>
 
 namespace treeskel {
-
-namespace {
-
-double point_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * ab)).norm();
-}
-
-}  // namespace
 
 std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const PruneOptions& options) {
   const double min_length = options.min_length > 0.0 ? options.min_length : band_width;
@@ -99,7 +90,7 @@ std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const Pr
           double reach = 0.0;
           for (NodeId u : leaf.nodes) {
             double d = 1e300;
-            for (const auto& [a, b] : segments) d = std::min(d, point_segment(g[u].position, a, b));
+            for (const auto& [a, b] : segments) d = std::min(d, point_segment_distance(g[u].position, a, b));
             reach = std::max(reach, d);
           }
           spurious = reach < options.radius_factor * host_radius + 0.5 * band_width;
