@@ -18,14 +18,6 @@ inline eval::Cylinder tube(const Eigen::Vector3d& a, const Eigen::Vector3d& b, d
   return {a, b, radius, radius};
 }
 
-/// Sampling with a point count and a seed.
-inline eval::SurfaceSampling sampling(std::size_t points, std::uint64_t seed = 1) {
-  eval::SurfaceSampling s;
-  s.points = points;
-  s.seed = seed;
-  return s;
-}
-
 /// Mean distance of the skeleton's nodes (local frame + offset) to the cylinder's axis segment.
 double mean_distance_to_axis(const Skeleton& skeleton, const eval::Cylinder& cylinder);
 
