@@ -20,12 +20,16 @@ double mean_distance(const std::vector<Eigen::Vector3d>& positions, const std::v
   return sum / static_cast<double>(points.size());
 }
 
+double band_width_for(const LevelSetOptions& options, const OctreeCells& cells) {
+  return options.band_width > 0.0 ? options.band_width : 2.0 * cells.cell_size;
+}
+
 Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, const CellGraph& graph,
                             const std::vector<bool>& in_tree, const GeodesicField& geodesic,
                             const LevelSetOptions& options) {
   const std::size_t n = cells.cell_count();
   TREESKEL_REQUIRE(in_tree.size() == n && geodesic.distance.size() == n, "cells, flags and distances disagree");
-  const double rho = options.band_width > 0.0 ? options.band_width : 2.0 * cells.cell_size;
+  const double rho = band_width_for(options, cells);
 
   std::vector<std::int64_t> band(n, -1);
   for (std::size_t c = 0; c < n; ++c)

@@ -80,7 +80,7 @@ Skeleton extract_skeleton(const PointCloud& cloud, const SkeletonOptions& option
   clock.start("level sets", 0.5);
   Skeleton skeleton = level_set_skeleton(cloud, cells, graph, main.in_tree, geodesic, options.level_sets);
   skeleton.left_out = main.left_out;
-  stats.band_width = options.level_sets.band_width > 0.0 ? options.level_sets.band_width : 2.0 * cells.cell_size;
+  stats.band_width = band_width_for(options.level_sets, cells);
   stats.level_set_nodes = skeleton.node_count();
   if (skeleton.node_count() < 2)
     throw InputError("the cloud yields a single skeleton node (octree cell size " + std::to_string(cells.cell_size) +

@@ -36,6 +36,9 @@ Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, c
                             const std::vector<bool>& in_tree, const GeodesicField& geodesic,
                             const LevelSetOptions& options = {});
 
+/// The band width `options` give for these cells: `band_width`, or 2 cell sizes when it is 0.
+double band_width_for(const LevelSetOptions& options, const OctreeCells& cells);
+
 /// Mean distance from the points to `centre` (eq. 9); 0 for no points.
 double mean_distance(const std::vector<Eigen::Vector3d>& positions, const std::vector<std::uint32_t>& points,
                      const Eigen::Vector3d& centre);
