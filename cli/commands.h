@@ -11,6 +11,7 @@ namespace treeskel::cli {
 using Command = std::function<int()>;
 
 Command add_skeletonize(CLI::App& app);
+Command add_model(CLI::App& app);
 Command add_synth(CLI::App& app);
 Command add_eval(CLI::App& app);
 

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "Threads to use (0: all cores); results do not depend on it")
       ->default_val(0);
   const treeskel::cli::Command skeletonize = treeskel::cli::add_skeletonize(app);
+  const treeskel::cli::Command model = treeskel::cli::add_model(app);
   const treeskel::cli::Command synth = treeskel::cli::add_synth(app);
   const treeskel::cli::Command evaluate = treeskel::cli::add_eval(app);
 
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   try {
     if (app.got_subcommand("skeletonize")) return skeletonize();
+    if (app.got_subcommand("model")) return model();
     if (app.got_subcommand("synth")) return synth();
     if (app.got_subcommand("eval")) return evaluate();
   } catch (const treeskel::Error& e) {

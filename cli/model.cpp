@@ -1,0 +1,228 @@
+// treeskel model INPUT -o tree.glb: cloud (or saved skeleton) -> skeleton -> radii -> mesh.
+#include "commands.h"
+#include "report.h"
+#include "skeleton_options.h"
+
+#include "treeskel/error.h"
+#include "treeskel/io/atomic_file.h"
+#include "treeskel/io/mesh_io.h"
+#include "treeskel/io/point_cloud_io.h"
+#include "treeskel/io/skeleton_io.h"
+#include "treeskel/modeling/measurements.h"
+#include "treeskel/modeling/radii.h"
+#include "treeskel/modeling/sweep.h"
+
+#include <nlohmann/json.hpp>
+#include <sys/resource.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+namespace treeskel::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Settings {
+  std::string input;
+  std::string output;
+  std::string report;
+  std::string qsm;
+  std::string skeleton_out;
+  bool with_skeleton = false;
+  bool json = false;
+  bool quiet = false;
+  bool allow_defects = false;
+  SkeletonSettings method;
+  modeling::RadiusOptions radii;
+  modeling::SweepOptions sweep;
+  double breast_height = 1.3;
+};
+
+/// A saved skeleton rather than a cloud: .json, or a PLY with an edge element.
+bool is_skeleton_file(const std::string& path) {
+  const std::string ext = io::extension_of(path);
+  if (ext == "json") return true;
+  if (ext != "ply") return false;
+  std::ifstream in(path, std::ios::binary);
+  std::string header(4096, '\0');
+  in.read(header.data(), static_cast<std::streamsize>(header.size()));
+  header.resize(static_cast<std::size_t>(in.gcount()));
+  const auto end = header.find("end_header");
+  return header.substr(0, end).find("element edge") != std::string::npos;
+}
+
+nlohmann::ordered_json measurements_json(const modeling::TreeMeasurements& m) {
+  nlohmann::ordered_json j;
+  j["height"] = m.height;
+  j["dbh"] = m.dbh ? nlohmann::ordered_json(*m.dbh) : nlohmann::ordered_json(nullptr);
+  j["breast_height"] = m.breast_height;
+  j["volume"] = m.volume;
+  j["length"] = m.length;
+  j["trunk_length"] = m.trunk_length;
+  j["branches_by_order"] = m.branches_by_order;
+  j["cylinders"] = m.cylinders.size();
+  return j;
+}
+
+int run(Settings& s) {
+  Stopwatch clock;
+  if (s.input.empty()) s.input = TREESKEL_DEFAULT_EXAMPLE;
+  if (s.output.empty()) s.output = fs::path(s.input).stem().string() + "_model.glb";
+  if (!io::is_mesh_extension(s.output))
+    throw OptionError(s.output + ": unknown mesh extension '." + io::extension_of(s.output) +
+                      "'; use .obj, .gltf, .glb, .ply or .stl");
+  if (!s.report.empty() && io::extension_of(s.report) != "json") throw OptionError("--report must name a .json file");
+  if (!s.qsm.empty() && io::extension_of(s.qsm) != "csv") throw OptionError("--qsm must name a .csv file");
+  if (!s.skeleton_out.empty()) {
+    const std::string ext = io::extension_of(s.skeleton_out);
+    if (ext != "ply" && ext != "obj" && ext != "json")
+      throw OptionError(s.skeleton_out + ": unknown skeleton extension '." + ext + "'; use .ply, .obj or .json");
+  }
+
+  Progress progress(s.quiet || s.json);
+  progress("reading " + fs::path(s.input).filename().string(), 0.0);
+  std::optional<PointCloud> cloud;
+  Skeleton skeleton;
+  SkeletonStats skeleton_stats;
+  const bool from_skeleton = is_skeleton_file(s.input);
+  Eigen::Vector3d up = parse_up(s.method.up);
+  if (from_skeleton) {
+    skeleton = io::read_skeleton(s.input);
+  } else {
+    cloud = io::read_point_cloud(s.input);
+    SkeletonOptions o = skeleton_options_for(s.method, *cloud);
+    if (progress.active()) o.progress = [&](const std::string& stage, double done) { progress(stage, 0.05 + 0.6 * done); };
+    skeleton = extract_skeleton_of(s.input, *cloud, o, &skeleton_stats);
+  }
+  const double skeleton_seconds = clock.seconds();
+
+  progress("fitting radii", 0.66);
+  modeling::RadiusStats radius_stats;
+  try {
+    modeling::fit_radii(skeleton, cloud ? &*cloud : nullptr, s.radii, &radius_stats);
+  } catch (const InputError& e) {
+    throw InputError(s.input + ": " + e.what());
+  }
+  progress("sweeping the mesh", 0.72);
+  modeling::SweepStats sweep_stats;
+  modeling::TreeMesh mesh;
+  try {
+    mesh = modeling::sweep_mesh(skeleton, s.sweep, &sweep_stats);
+  } catch (const InputError& e) {
+    throw InputError(s.input + ": " + e.what());
+  }
+  progress("checking the mesh", 0.9);
+  modeling::MeshCheck check = modeling::check_mesh(mesh, false);
+  check.self_intersections = sweep_stats.self_intersections;
+  check.self_intersections_checked = s.sweep.repair;
+  if (!check.ok() && !s.allow_defects)
+    throw Error("the mesh of " + s.input + " failed its check: " + check.problem() +
+                "; nothing was written (--allow-defects writes it anyway)");
+  modeling::MeasureOptions mo;
+  mo.up = up;
+  mo.breast_height = s.breast_height;
+  const modeling::TreeMeasurements measurements = modeling::measure_tree(skeleton, cloud ? &*cloud : nullptr, mo);
+
+  progress("writing " + fs::path(s.output).filename().string(), 0.95);
+  io::write_mesh(s.output, mesh, skeleton.offset, s.with_skeleton ? &skeleton : nullptr);
+  if (!s.qsm.empty()) io::write_qsm_csv(s.qsm, measurements);
+  if (!s.skeleton_out.empty()) io::write_skeleton(s.skeleton_out, skeleton);
+  const double seconds = clock.seconds();
+
+  nlohmann::ordered_json j;
+  j["input"] = s.input;
+  j["output"] = s.output;
+  if (cloud) j["points"] = cloud->size();
+  j["nodes"] = skeleton.node_count();
+  j["branch_points"] = count_branch_points(skeleton.graph);
+  j["endpoints"] = count_endpoints(skeleton.graph);
+  j["measurements"] = measurements_json(measurements);
+  j["radii"] = {{"measured_nodes", radius_stats.measured},
+                {"reliable_nodes", radius_stats.reliable},
+                {"from_stored_radii", radius_stats.used_stored},
+                {"exponent", s.radii.exponent}};
+  j["mesh"] = {{"vertices", check.vertices},
+               {"triangles", check.faces},
+               {"closed", check.boundary_edges == 0},
+               {"manifold", check.non_manifold_vertices == 0},
+               {"components", check.components},
+               {"self_intersections", s.sweep.repair ? nlohmann::ordered_json(check.self_intersections) : nlohmann::ordered_json(nullptr)},
+               {"volume", check.volume},
+               {"area", check.area},
+               {"branches", sweep_stats.branches},
+               {"junctions", sweep_stats.junctions},
+               {"merged_forks", sweep_stats.merged_forks},
+               {"thin_left_out", sweep_stats.thin_left_out},
+               {"relocated_branches", sweep_stats.relocated_branches},
+               {"twigs_absorbed", sweep_stats.twigs_absorbed},
+               {"repaired_shrunk", sweep_stats.repaired_shrunk},
+               {"repaired_dropped", sweep_stats.repaired_dropped}};
+  j["seconds"] = {{"skeleton", skeleton_seconds}, {"total", seconds}};
+  struct rusage usage {};
+  ::getrusage(RUSAGE_SELF, &usage);
+  j["peak_memory_mb"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  if (!s.report.empty()) io::write_atomically(s.report, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+  progress.clear();
+  if (s.json) {
+    std::cout << j.dump(2) << '\n';
+  } else if (!s.quiet) {
+    std::cout << fs::path(s.input).filename().string() << ": ";
+    if (cloud) std::cout << cloud->size() << " points, ";
+    std::cout << skeleton.node_count() << " nodes, " << check.faces << " triangles ("
+              << (check.ok() ? "closed, manifold, no self-intersection" : check.problem()) << "), height "
+              << measurements.height << ", DBH ";
+    if (measurements.dbh) std::cout << *measurements.dbh;
+    else std::cout << "n/a (shorter than " << s.breast_height << ")";
+    std::cout << ", wood volume " << measurements.volume << ", " << format_seconds(seconds) << " -> " << s.output << '\n';
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_model(CLI::App& app) {
+  auto s = std::make_shared<Settings>();
+  CLI::App* c = app.add_subcommand(
+      "model",
+      "Turn a tree point cloud (or a saved skeleton) into one watertight mesh: skeleton, radii by the pipe model "
+      "(Leonardo's rule), branches swept and joined at forks.\n"
+      "Output by extension: .glb .gltf (glTF 2.0), .obj, .ply, .stl. Distances are in the input's units.");
+  c->add_option("input", s->input,
+                "Point cloud (.xyz .txt .asc .csv .pts .ply .las) or skeleton (.json, or .ply with edges) "
+                "(default: the bundled example tree)");
+  c->add_option("-o,--output", s->output, "Mesh file to write (default: INPUT_model.glb in this folder)");
+  c->add_option("--report", s->report, "Also write the measurements and mesh checks as JSON to this file");
+  c->add_option("--qsm", s->qsm, "Also write the cylinder table (QSM columns) as CSV to this file");
+  c->add_option("--skeleton", s->skeleton_out, "Also write the skeleton with its fitted radii (.ply, .obj or .json)");
+  c->add_flag("--with-skeleton", s->with_skeleton, "Put the skeleton into the mesh file as lines beside the mesh");
+  c->add_flag("--json", s->json, "Print the JSON report on stdout instead of the summary");
+  c->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
+  c->add_flag("--allow-defects", s->allow_defects, "Write the mesh even if it fails its checks (closed, manifold, ...)");
+
+  const char* g = "Model";
+  auto& r = s->radii;
+  auto& w = s->sweep;
+  c->add_option("--exponent", r.exponent, "Leonardo exponent e: r_parent^e = sum of r_child^e at forks (2: pipe model)")
+      ->default_val(r.exponent)->check(CLI::Range(1.0, 4.0))->group(g);
+  c->add_option("--fit-points", r.min_points, "Fewest points of a node for its radius to be measured by a circle fit")
+      ->default_val(r.min_points)->check(CLI::Range(3, 100000))->group(g);
+  c->add_option("--segments", w.trunk_segments, "Polygon sides around the trunk; thinner branches get fewer")
+      ->default_val(w.trunk_segments)->check(CLI::Range(3, 256))->group(g);
+  c->add_option("--min-segments", w.min_segments, "Fewest polygon sides around a branch")
+      ->default_val(w.min_segments)->check(CLI::Range(3, 256))->group(g);
+  c->add_option("--min-radius", w.min_radius, "Leave out branches thinner than this where they start (0: keep all)")
+      ->default_val(w.min_radius)->check(CLI::NonNegativeNumber)->group(g);
+  c->add_option("--breast-height", s->breast_height, "Height above the base where the DBH is measured (1.3 for metres)")
+      ->default_val(s->breast_height)->check(CLI::PositiveNumber)->group(g);
+  c->add_flag("--no-repair", [s](std::int64_t) { s->sweep.repair = false; },
+              "Skip the self-intersection test and repair (faster; the mesh may then cross itself)")->group(g);
+  add_skeleton_options(*c, s->method);
+  return [s] { return run(*s); };
+}
+
+}  // namespace treeskel::cli

@@ -1,0 +1,103 @@
+#include "skeleton_options.h"
+
+#include "treeskel/error.h"
+
+#include <sstream>
+
+namespace treeskel::cli {
+
+namespace {
+
+Eigen::Vector3d parse_vector(const std::string& text, const char* what) {
+  std::string s = text;
+  for (auto& c : s)
+    if (c == ',') c = ' ';
+  std::istringstream in(s);
+  Eigen::Vector3d v;
+  if (!(in >> v.x() >> v.y() >> v.z()) || !(in >> std::ws).eof())
+    throw OptionError(std::string(what) + " must be three numbers 'x,y,z', got '" + text + "'");
+  return v;
+}
+
+}  // namespace
+
+Eigen::Vector3d parse_up(const std::string& text) {
+  if (text == "x" || text == "+x") return Eigen::Vector3d::UnitX();
+  if (text == "y" || text == "+y") return Eigen::Vector3d::UnitY();
+  if (text == "z" || text == "+z") return Eigen::Vector3d::UnitZ();
+  if (text == "-x") return -Eigen::Vector3d::UnitX();
+  if (text == "-y") return -Eigen::Vector3d::UnitY();
+  if (text == "-z") return -Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d v = parse_vector(text, "--up");
+  if (v.norm() == 0.0) throw OptionError("--up must not be the zero vector");
+  return v.normalized();
+}
+
+void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
+  const char* g = "Method";
+  SkeletonOptions& o = s.options;
+  c.add_option("--up", s.up, "Axis the tree grows along: x, y, z, -x, -y, -z or 'x,y,z'")->default_val("z")->group(g);
+  c.add_option("--root", s.root, "Point 'x,y,z' (input frame) where the tree stands (default: lowest part of the cloud)")->group(g);
+  c.add_option("--root-slice", o.root.slice, "Thickness of the trunk base slice the geodesic distance starts from (0: two cells)")
+      ->default_val(o.root.slice)->group(g);
+  c.add_option("--depth", o.octree.depth, "Octree depth (0: the deepest whose cells hold --cell-points points on average)")
+      ->default_val(o.octree.depth)->check(CLI::Range(0, 21))->group(g);
+  c.add_option("--cell-points", o.octree.points_per_cell,
+                "Mean points per octree cell that sets the depth (0: the paper's depth, 2 + log8 N)")
+      ->default_val(o.octree.points_per_cell)->check(CLI::NonNegativeNumber)->group(g);
+  c.add_option("--neighbours", s.neighbours, "Neighbour graph: 'octree' (26-adjacent cells) or 'knn' (k nearest skeleton points)")
+      ->default_val("octree")->check(CLI::IsMember({"octree", "knn"}))->group(g);
+  c.add_option("--reach", o.graph.reach, "With --neighbours octree: cells this many cells apart are neighbours (1: the paper's 26)")
+      ->default_val(o.graph.reach)->check(CLI::Range(1, 3))->group(g);
+  c.add_option("-k", o.graph.k, "Neighbours per skeleton point with --neighbours knn")->default_val(o.graph.k)
+      ->check(CLI::Range(1, 1000))->group(g);
+  c.add_option("--bridge", o.graph.bridge_distance,
+                "Join parts of the cloud whose gap is at most this long (0: 4 cells; negative: never)")
+      ->default_val(o.graph.bridge_distance)->group(g);
+  c.add_option("--small-cluster", o.graph.small_cluster_fraction,
+                "Parts left apart that hold less than this share of the points are reported as noise")
+      ->default_val(o.graph.small_cluster_fraction)->check(CLI::Range(0.0, 1.0))->group(g);
+  c.add_option("--band", o.level_sets.band_width, "Width of a level set band of geodesic distance (0: 2 cells)")
+      ->default_val(o.level_sets.band_width)->check(CLI::NonNegativeNumber)->group(g);
+  c.add_option("--prune-length", o.prune.min_length, "Remove leaf branches shorter than this (0: 1 band)")
+      ->default_val(o.prune.min_length)->check(CLI::NonNegativeNumber)->group(g);
+  c.add_option("--prune-radius", o.prune.radius_factor, "... or that stay within this many radii of the branch they leave")
+      ->default_val(o.prune.radius_factor)->check(CLI::NonNegativeNumber)->group(g);
+  c.add_option("--cpc-weight", o.cpc.weight, "Weight w of the equal-distance (cylinder) term of CPC")
+      ->default_val(o.cpc.weight)->check(CLI::NonNegativeNumber)->group(g);
+  c.add_option("--eta", o.refine.eta, "Refinement threshold factor eta of eq. 8")->default_val(o.refine.eta)
+      ->check(CLI::NonNegativeNumber)->group(g);
+  c.add_option("--samples", o.smooth.samples_per_edge, "Spline points inserted between adjacent nodes")
+      ->default_val(o.smooth.samples_per_edge)->check(CLI::Range(0, 100))->group(g);
+  c.add_option("--tension", o.smooth.tension, "Cardinal spline tension (0: Catmull-Rom, 1: straight)")
+      ->default_val(o.smooth.tension)->check(CLI::Range(0.0, 1.0))->group(g);
+  c.add_flag("--no-prune", s.no_prune, "Keep every level-set branch, however short")->group(g);
+  c.add_flag("--no-cpc", s.no_cpc, "Skip the cylindrical prior constraint (nodes stay at L1-medians)")->group(g);
+  c.add_flag("--no-refine", s.no_refine, "Skip the topology refinement at branch nodes")->group(g);
+  c.add_flag("--no-junctions", s.no_junctions, "Leave forks where the level sets put them (no axis-meeting placement)")->group(g);
+  c.add_flag("--no-smooth", s.no_smooth, "Skip the spline smoothing")->group(g);
+}
+
+SkeletonOptions skeleton_options_for(const SkeletonSettings& s, const PointCloud& cloud) {
+  SkeletonOptions o = s.options;
+  o.root.up = parse_up(s.up);
+  if (!s.root.empty()) o.root.point = parse_vector(s.root, "--root") - cloud.offset;
+  if (s.neighbours == "knn") o.graph.mode = NeighbourMode::knn;
+  o.use_prune = !s.no_prune;
+  o.use_cpc = !s.no_cpc;
+  o.use_refine = !s.no_refine;
+  o.use_junctions = !s.no_junctions;
+  o.use_smooth = !s.no_smooth;
+  return o;
+}
+
+Skeleton extract_skeleton_of(const std::string& input, const PointCloud& cloud, const SkeletonOptions& options,
+                             SkeletonStats* stats) {
+  try {
+    return extract_skeleton(cloud, options, stats);
+  } catch (const InputError& e) {
+    throw InputError(input + ": " + e.what());
+  }
+}
+
+}  // namespace treeskel::cli

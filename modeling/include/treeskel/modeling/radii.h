@@ -1,0 +1,64 @@
+/// @file radii.h
+/// Branch radii: measured on each node's points by a circle fit, then made consistent with the pipe
+/// model (Leonardo da Vinci's rule: the cross section of a branch equals the sum of its children's).
+#pragma once
+
+#include "treeskel/point_cloud.h"
+#include "treeskel/skeleton.h"
+
+#include <cstddef>
+#include <vector>
+
+namespace treeskel::modeling {
+
+/// One node's radius as its points measure it.
+struct RadiusMeasurement {
+  double radius = 0.0;  ///< fitted circle radius; 0 when the node was not measured
+  double weight = 0.0;  ///< reliability in [0, 1]: 0 for unmeasured nodes, 1 for a well covered, clean circle
+};
+
+struct RadiusOptions {
+  /// Leonardo exponent e: r_parent^e = sum of r_child^e at every fork. 2 is the pipe model (areas).
+  double exponent = 2.0;
+  /// A node needs this many points for a circle fit.
+  std::size_t min_points = 8;
+  /// A fit counts as reliable only if the rms distance of its points to the circle is at most this
+  /// share of the radius ...
+  double max_residual = 0.3;
+  /// ... and its points cover at least this angle around the axis (radians).
+  double min_coverage = 1.5;
+  /// Share of a chain (from its start) whose reliable measurements set the chain's thickness.
+  double start_share = 0.34;
+  /// Nodes on each side of a node averaged when the taper along a chain is smoothed.
+  int smoothing = 3;
+};
+
+/// What `fit_radii` did, for reports.
+struct RadiusStats {
+  std::size_t measured = 0;  ///< nodes with a circle fit
+  std::size_t reliable = 0;  ///< of them, fits reliable enough to steer the radii
+  bool used_stored = false;  ///< no cloud points: the skeleton's own radii were taken as measurements
+};
+
+/// Least-squares circle fit of each node's points in the plane across its branch (algebraic fit,
+/// refined by Gauss-Newton on the geometric distance). Fork nodes and nodes with fewer than
+/// `options.min_points` points are not measured.
+/// @param[in] skeleton  a tree whose nodes list their points in `cloud`
+/// @return one measurement per node
+std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, const PointCloud& cloud,
+                                                  const RadiusOptions& options = {});
+
+/// Replaces every node radius by one that obeys the pipe model:
+/// - at every fork, r(fork)^e = sum over its children c of r(c)^e, exactly;
+/// - along every path from the root, radii never increase;
+/// - the shape follows the pipe model (cross section proportional to the branch length carried),
+///   scaled per branch by the reliable measurements: measured values win where they are reliable,
+///   the rule fills in twigs and occluded parts.
+/// Without a cloud (`cloud == nullptr`, e.g. a skeleton read from a file) the skeleton's own radii
+/// are the measurements.
+/// @throws InputError when the skeleton is empty or not a tree, or nothing gives a positive radius.
+/// @throws OptionError for an exponent outside [1, 4].
+void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options = {},
+               RadiusStats* stats = nullptr);
+
+}  // namespace treeskel::modeling

@@ -1,0 +1,67 @@
+/// @file sweep.h
+/// One watertight mesh of a tree: generalized cylinders swept along the skeleton's branches, joined
+/// at forks by the convex hull of the rings that meet there, the base and the tips capped.
+#pragma once
+
+#include "treeskel/modeling/tree_mesh.h"
+#include "treeskel/skeleton.h"
+
+#include <cstddef>
+
+namespace treeskel::modeling {
+
+struct SweepOptions {
+  int trunk_segments = 24;  ///< polygon sides around the thickest branch; thinner ones get fewer
+  int min_segments = 6;     ///< fewest polygon sides around a branch
+  int max_segments = 48;    ///< most polygon sides around a branch
+  /// Branches whose radius where they start is below this are left out with everything they carry
+  /// (input units; 0 keeps every branch).
+  double min_radius = 0.0;
+  /// Along a branch a new ring is laid when the branch has run this many radii since the last one ...
+  double ring_spacing = 0.75;
+  /// ... or has turned by more than this (radians).
+  double max_turn = 0.3;
+  /// A branch leaving a thicker one at less than this angle (radians) is re-attached where it comes
+  /// out of the thicker one's surface, so that the join stays compact (0: never).
+  double narrow_angle = 0.7;
+  /// The rings of a fork's join lie within this many radii (of its thickest branch) of the fork.
+  /// Branches meeting at a narrow angle need more room: they are thinned where they meet (a neck)
+  /// until their rings fit; a twig shorter than the room is left inside the join.
+  double join_reach = 4.0;
+  /// Most thinning steps (x0.8 each) at a narrow fork before its neighbouring fork is merged in.
+  int max_necks = 10;
+  /// Rounds of repair: branches whose surface meets another's are thinned, then left out.
+  int repair_rounds = 12;
+  /// Factor applied to the radii of a branch (and what it carries) in each repair round.
+  double repair_shrink = 0.7;
+  /// A branch thinned this many times is left out instead.
+  int max_shrinks = 3;
+  /// Only branches thinner than this share of the thickest radius may be left out by the repair;
+  /// thicker ones are thinned further instead.
+  double max_drop_radius = 0.25;
+  /// Run the self-intersection test and the repair (costly on large trees).
+  bool repair = true;
+};
+
+/// What `sweep_mesh` did, for reports.
+struct SweepStats {
+  std::size_t branches = 0;          ///< chains swept into tubes
+  std::size_t junctions = 0;         ///< convex-hull joins (a join may hold several close forks)
+  std::size_t merged_forks = 0;      ///< forks joined with a neighbour into one hull
+  std::size_t thin_left_out = 0;     ///< branches under `min_radius`, left out
+  std::size_t relocated_branches = 0;  ///< narrow-angle branches re-attached where they emerge
+  std::size_t twigs_absorbed = 0;    ///< twigs too short to leave their fork's hull, left out
+  std::size_t repaired_shrunk = 0;   ///< branches thinned to clear an intersection
+  std::size_t repaired_dropped = 0;  ///< branches left out to clear an intersection
+  int repair_rounds = 0;
+  std::size_t self_intersections = 0;  ///< face pairs still intersecting after the repair
+};
+
+/// Sweeps the branches of a skeleton with radii into one closed, 2-manifold, outward-oriented
+/// triangle mesh. Ring polygons keep each cross section's area (so volumes are exact for straight
+/// branches). The mesh is in the skeleton's local frame.
+/// @throws InputError when the skeleton is empty, not a tree, or has a radius that is not positive.
+/// @throws OptionError for options out of range.
+TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options = {}, SweepStats* stats = nullptr);
+
+}  // namespace treeskel::modeling

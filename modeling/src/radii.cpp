@@ -1,0 +1,325 @@
+#include "treeskel/modeling/radii.h"
+
+#include "treeskel/error.h"
+#include "treeskel/modeling/chains.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace treeskel::modeling {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr std::size_t kMaxFitPoints = 2000;  // a circle needs no more; larger nodes are thinned
+constexpr int kGaussNewtonSteps = 10;
+
+/// Unit direction of the branch through `v`: along its neighbours.
+Eigen::Vector3d branch_direction(const Skeleton& skeleton, NodeId v) {
+  const auto& g = skeleton.graph;
+  std::vector<NodeId> nb;
+  for (auto [it, end] = boost::adjacent_vertices(v, g); it != end; ++it) nb.push_back(*it);
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
+  if (nb.size() == 1) d = g[v].position - g[nb[0]].position;
+  if (nb.size() == 2) d = g[nb[1]].position - g[nb[0]].position;
+  return d.norm() > 0.0 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero();
+}
+
+struct CircleFit {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double radius = 0.0;
+  double rms = 0.0;       ///< rms distance of the points to the circle
+  double coverage = 0.0;  ///< angle covered by the points around the centre
+};
+
+/// Algebraic (Kåsa) fit refined by Gauss-Newton on the geometric distances.
+CircleFit fit_circle(const std::vector<Eigen::Vector2d>& q) {
+  CircleFit fit;
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (const auto& p : q) {
+    const Eigen::Vector3d row(p.x(), p.y(), 1.0);
+    const double rhs = -p.squaredNorm();
+    a += row * row.transpose();
+    b += row * rhs;
+  }
+  const Eigen::Vector3d s = a.ldlt().solve(b);
+  fit.centre = Eigen::Vector2d(-s[0] / 2.0, -s[1] / 2.0);
+  const double r2 = fit.centre.squaredNorm() - s[2];
+  if (!std::isfinite(r2) || r2 <= 0.0) return CircleFit{};
+  fit.radius = std::sqrt(r2);
+  for (int step = 0; step < kGaussNewtonSteps; ++step) {
+    Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
+    for (const auto& p : q) {
+      const Eigen::Vector2d d = p - fit.centre;
+      const double len = d.norm();
+      if (len == 0.0) continue;
+      const Eigen::Vector3d j(-d.x() / len, -d.y() / len, -1.0);
+      const double r = len - fit.radius;
+      jtj += j * j.transpose();
+      jtr += j * r;
+    }
+    const Eigen::Vector3d delta = jtj.ldlt().solve(-jtr);
+    if (!delta.allFinite()) break;
+    fit.centre += delta.head<2>();
+    fit.radius += delta[2];
+    if (delta.norm() < 1e-12 * std::max(1.0, fit.radius)) break;
+  }
+  if (!std::isfinite(fit.radius) || fit.radius <= 0.0) return CircleFit{};
+  double sum2 = 0.0;
+  std::vector<double> angles;
+  angles.reserve(q.size());
+  for (const auto& p : q) {
+    const Eigen::Vector2d d = p - fit.centre;
+    const double r = d.norm() - fit.radius;
+    sum2 += r * r;
+    angles.push_back(std::atan2(d.y(), d.x()));
+  }
+  fit.rms = std::sqrt(sum2 / static_cast<double>(q.size()));
+  std::sort(angles.begin(), angles.end());
+  double gap = angles.front() + 2.0 * kPi - angles.back();
+  for (std::size_t i = 1; i < angles.size(); ++i) gap = std::max(gap, angles[i] - angles[i - 1]);
+  fit.coverage = 2.0 * kPi - gap;
+  return fit;
+}
+
+/// Weighted median of `values`.
+double weighted_median(std::vector<std::pair<double, double>> value_weight) {
+  std::sort(value_weight.begin(), value_weight.end());
+  double total = 0.0;
+  for (const auto& [v, w] : value_weight) total += w;
+  double acc = 0.0;
+  for (const auto& [v, w] : value_weight) {
+    acc += w;
+    if (acc >= total / 2.0) return v;
+  }
+  return value_weight.back().first;
+}
+
+/// Weighted least-squares non-increasing fit (pool adjacent violators). Entries of weight 0 take the
+/// value of the block they fall in.
+std::vector<double> non_increasing_fit(const std::vector<double>& y, const std::vector<double>& w) {
+  struct Block {
+    double value, weight;
+    std::size_t count;
+  };
+  std::vector<Block> blocks;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    blocks.push_back({y[i], w[i], 1});
+    while (blocks.size() >= 2) {
+      Block& last = blocks.back();
+      Block& prev = blocks[blocks.size() - 2];
+      // A weightless block merges into its predecessor; a weighted one only when it violates order.
+      if (last.weight > 0.0 && prev.weight > 0.0 && prev.value >= last.value) break;
+      if (last.weight == 0.0 && prev.weight > 0.0) {
+        prev.count += last.count;
+        blocks.pop_back();
+        continue;
+      }
+      const double weight = prev.weight + last.weight;
+      const double value = weight > 0.0 ? (prev.value * prev.weight + last.value * last.weight) / weight : last.value;
+      prev = {value, weight, prev.count + last.count};
+      blocks.pop_back();
+    }
+  }
+  std::vector<double> out;
+  out.reserve(y.size());
+  for (const auto& b : blocks) out.insert(out.end(), b.count, b.value);
+  return out;
+}
+
+}  // namespace
+
+std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, const PointCloud& cloud,
+                                                  const RadiusOptions& options) {
+  const auto& g = skeleton.graph;
+  const std::size_t n = boost::num_vertices(g);
+  std::vector<RadiusMeasurement> out(n);
+  const std::size_t min_points = std::max<std::size_t>(options.min_points, 3);
+  for (NodeId v = 0; v < n; ++v) {
+    const auto& node = g[v];
+    if (node.points.size() < min_points || boost::degree(v, g) > 2) continue;
+    const Eigen::Vector3d axis = branch_direction(skeleton, v);
+    if (axis.isZero()) continue;
+    const Eigen::Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
+    const std::size_t stride = (node.points.size() + kMaxFitPoints - 1) / kMaxFitPoints;
+    std::vector<Eigen::Vector2d> q;
+    q.reserve(node.points.size() / stride + 1);
+    for (std::size_t i = 0; i < node.points.size(); i += stride) {
+      TREESKEL_REQUIRE(node.points[i] < cloud.size(), "a skeleton node lists a point the cloud does not have");
+      const Eigen::Vector3d d = cloud.positions[node.points[i]] - node.position;
+      q.emplace_back(d.dot(u), d.dot(w));
+    }
+    const CircleFit fit = fit_circle(q);
+    if (fit.radius <= 0.0) continue;
+    // The circle must sit around the node: a centre farther than its own radius from the skeleton
+    // is a fit to something else (a neighbouring branch, a leaf cluster).
+    if (fit.centre.norm() > fit.radius) continue;
+    out[v].radius = fit.radius;
+    const bool reliable = fit.rms <= options.max_residual * fit.radius && fit.coverage >= options.min_coverage;
+    out[v].weight = reliable ? std::min(1.0, static_cast<double>(q.size()) / (3.0 * static_cast<double>(min_points))) : 0.0;
+  }
+  return out;
+}
+
+void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options, RadiusStats* stats) {
+  if (!(options.exponent >= 1.0 && options.exponent <= 4.0))
+    throw OptionError("the Leonardo exponent must be between 1 and 4");
+  if (options.start_share <= 0.0 || options.start_share > 1.0) throw OptionError("the start share must be in (0, 1]");
+  if (options.smoothing < 0) throw OptionError("the smoothing window must not be negative");
+  const ChainTree t = build_chains(skeleton);
+  auto& g = skeleton.graph;
+  const std::size_t n = boost::num_vertices(g);
+  const double e = options.exponent;
+
+  std::vector<RadiusMeasurement> measured;
+  RadiusStats local;
+  if (cloud != nullptr) {
+    measured = measure_node_radii(skeleton, *cloud, options);
+  } else {
+    measured.resize(n);
+    for (NodeId v = 0; v < n; ++v)
+      if (g[v].radius > 0.0 && std::isfinite(g[v].radius)) measured[v] = {g[v].radius, 1.0};
+    local.used_stored = true;
+  }
+  for (const auto& m : measured) {
+    local.measured += m.radius > 0.0;
+    local.reliable += m.weight > 0.0;
+  }
+  if (local.reliable == 0) {
+    // Nothing reliable: fall back on the radii the skeleton carries (eq. 9 from the level sets),
+    // with little confidence.
+    for (NodeId v = 0; v < n; ++v)
+      if (g[v].radius > 0.0 && std::isfinite(g[v].radius) && boost::degree(v, g) <= 2) measured[v] = {g[v].radius, 0.5};
+  }
+
+  // Branch length each node carries (pipe model: cross section proportional to it). A tip carries
+  // a quarter of the median twig length, so that twigs taper but do not vanish.
+  std::vector<double> leaf_lengths;
+  for (const auto& c : t.chains)
+    if (t.children[c.nodes.back()].empty()) leaf_lengths.push_back(chain_length(skeleton, c));
+  double tip = 0.0;
+  if (!leaf_lengths.empty()) {
+    std::nth_element(leaf_lengths.begin(), leaf_lengths.begin() + leaf_lengths.size() / 2, leaf_lengths.end());
+    tip = 0.25 * leaf_lengths[leaf_lengths.size() / 2];
+  }
+  if (!(tip > 0.0)) tip = 1e-9;
+  std::vector<double> carried(n, tip);
+  const auto order = bfs_order(g, skeleton.root);
+  for (auto it = order.rbegin(); it != order.rend(); ++it) {
+    const NodeId v = *it;
+    if (t.children[v].empty()) continue;
+    double sum = 0.0;
+    for (NodeId c : t.children[v]) sum += carried[c] + (g[c].position - g[v].position).norm();
+    carried[v] = sum;
+  }
+
+  // Global scale: measured cross section per carried length. Nodes count by the length they
+  // carry, so that the many twigs (whose carried length is mostly the tip allowance, and whose
+  // fits noise inflates) do not outvote the trunk and the limbs.
+  std::vector<std::pair<double, double>> ratios;
+  for (NodeId v = 0; v < n; ++v)
+    if (measured[v].weight > 0.0)
+      ratios.emplace_back(std::pow(measured[v].radius, e) / carried[v], measured[v].weight * carried[v]);
+  if (ratios.empty()) throw InputError("no node has a positive radius: nothing to scale the branch radii from");
+  const double global_scale = weighted_median(ratios);
+
+  // A chain's own nodes: all but the fork it leaves; a root with one child belongs to its chain.
+  const bool root_in_chain = t.children[skeleton.root].size() == 1;
+  auto own_nodes = [&](const Chain& c) {
+    const bool with_first = root_in_chain && c.nodes.front() == skeleton.root;
+    return std::vector<NodeId>(c.nodes.begin() + (with_first ? 0 : 1), c.nodes.end());
+  };
+  // Start cross section as the chain's reliable measurements near its start say it, with their
+  // confidence (0 to 1).
+  auto measured_start = [&](const std::vector<NodeId>& nodes) -> std::pair<double, double> {
+    double length = 0.0;
+    for (std::size_t i = 1; i < nodes.size(); ++i) length += (g[nodes[i]].position - g[nodes[i - 1]].position).norm();
+    std::vector<std::pair<double, double>> values;
+    double along = 0.0, confidence = 0.0;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      if (i > 0) along += (g[nodes[i]].position - g[nodes[i - 1]].position).norm();
+      if (along > options.start_share * length && values.size() >= 3) break;
+      const auto& m = measured[nodes[i]];
+      if (m.weight <= 0.0) continue;
+      values.emplace_back(std::pow(m.radius, e) * carried[nodes.front()] / carried[nodes[i]], m.weight);
+      confidence += m.weight;
+    }
+    if (values.empty()) return {0.0, 0.0};
+    return {weighted_median(values), std::min(1.0, confidence / 2.0)};
+  };
+
+  std::vector<double> area(n, 0.0);  // r^e
+  // Start values of the chains leaving a fork: the fork's cross section shared in proportion to
+  // what each chain's start is estimated at (measured where it can be, else the pipe model).
+  auto split_fork = [&](NodeId fork, const std::vector<std::size_t>& chain_ids, bool fork_known) {
+    std::vector<double> estimate;
+    for (std::size_t id : chain_ids) {
+      const auto nodes = own_nodes(t.chains[id]);
+      const auto [value, confidence] = measured_start(nodes);
+      estimate.push_back(confidence * value + (1.0 - confidence) * global_scale * carried[nodes.front()]);
+    }
+    const double total = std::accumulate(estimate.begin(), estimate.end(), 0.0);
+    if (!fork_known) area[fork] = total;
+    for (std::size_t i = 0; i < chain_ids.size(); ++i)
+      area[own_nodes(t.chains[chain_ids[i]]).front()] = area[fork] * estimate[i] / total;
+  };
+
+  std::vector<std::size_t> root_chains;
+  for (std::size_t id = 0; id < t.chains.size(); ++id)
+    if (t.chains[id].parent < 0) root_chains.push_back(id);
+  if (root_chains.empty()) {  // a lone node
+    area[skeleton.root] = std::pow(measured[skeleton.root].radius, e);
+  } else if (root_in_chain) {
+    const auto nodes = own_nodes(t.chains[root_chains.front()]);
+    const auto [value, confidence] = measured_start(nodes);
+    area[skeleton.root] = confidence * value + (1.0 - confidence) * global_scale * carried[skeleton.root];
+  } else {
+    split_fork(skeleton.root, root_chains, false);
+  }
+
+  const int half = options.smoothing;
+  for (std::size_t id = 0; id < t.chains.size(); ++id) {
+    const auto nodes = own_nodes(t.chains[id]);
+    const double start = area[nodes.front()];
+    const std::size_t k = nodes.size();
+    // Taper: ratio of measured to pipe-model cross section, made non-increasing, smoothed, and
+    // pulled toward the model as far as the measurements are few.
+    std::vector<double> q(k, 1.0), w(k, 0.0);
+    double confidence = 0.0;
+    for (std::size_t i = 1; i < k; ++i) {
+      const auto& m = measured[nodes[i]];
+      if (m.weight <= 0.0) continue;
+      q[i] = std::pow(m.radius, e) / (start * carried[nodes[i]] / carried[nodes.front()]);
+      w[i] = m.weight;
+      confidence += m.weight;
+    }
+    w[0] = std::max(1.0, confidence);  // the start is fixed by the fork
+    auto fitted = non_increasing_fit(q, w);
+    for (auto& value : fitted) value = std::clamp(value, 0.05, 1.0);
+    std::vector<double> smooth(k);
+    for (std::size_t i = 0; i < k; ++i) {
+      double sum = 0.0;
+      for (int d = -half; d <= half; ++d) {
+        const auto j = static_cast<std::ptrdiff_t>(i) + d;
+        sum += fitted[static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(j, 0, static_cast<std::ptrdiff_t>(k) - 1))];
+      }
+      smooth[i] = sum / (2 * half + 1);
+    }
+    const double beta = std::min(1.0, confidence / 3.0);
+    for (std::size_t i = 0; i < k; ++i) {
+      const double ratio = smooth[i] / smooth[0];
+      const double taper = 1.0 - beta * (1.0 - ratio);
+      if (i > 0) area[nodes[i]] = start * carried[nodes[i]] / carried[nodes.front()] * taper;
+    }
+    if (!t.chains[id].children.empty()) split_fork(nodes.back(), t.chains[id].children, true);
+  }
+  for (NodeId v = 0; v < n; ++v) g[v].radius = std::pow(area[v], 1.0 / e);
+  if (stats) *stats = local;
+}
+
+}  // namespace treeskel::modeling

@@ -1,0 +1,880 @@
+#include "treeskel/modeling/sweep.h"
+
+#include "treeskel/error.h"
+#include "treeskel/geometry.h"
+#include "treeskel/modeling/chains.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_3.h>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <optional>
+#include <set>
+#include <cstdio>
+#include <cstdlib>
+
+namespace treeskel::modeling {
+
+namespace {
+
+using Eigen::Vector3d;
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kMaxJunctionIterations = 80;
+
+/// Circumradius factor that gives a regular n-gon the area of the circle it stands for.
+double area_factor(int sides) {
+  const double n = sides;
+  return std::sqrt(2.0 * kPi / (n * std::sin(2.0 * kPi / n)));
+}
+
+/// A chain's polyline with its arc length and a rotation-minimizing frame at every point.
+struct Polyline {
+  std::vector<Vector3d> p, t, u;  // position, tangent (travel direction), frame normal
+  std::vector<double> r, s;       // radius, arc length from the start
+  double length() const { return s.back(); }
+};
+
+/// A ring of the sweep: a regular polygon across the travel direction.
+struct Ring {
+  Vector3d centre, normal, u;
+  double radius = 0.0;  // vertex radius (area-preserving)
+  int sides = 0;
+  Vector3d vertex(int k) const {
+    const double a = 2.0 * kPi * k / sides;
+    const Vector3d w = normal.cross(u);
+    return centre + radius * (std::cos(a) * u + std::sin(a) * w);
+  }
+};
+
+Vector3d transport(const Vector3d& u, const Vector3d& from, const Vector3d& to) {
+  const Vector3d v = Eigen::Quaterniond::FromTwoVectors(from, to) * u;
+  const Vector3d ortho = v - v.dot(to) * to;
+  return ortho.norm() > 1e-12 ? Vector3d(ortho.normalized()) : Vector3d(to.unitOrthogonal());
+}
+
+Polyline make_polyline(const std::vector<Vector3d>& points, const std::vector<double>& radii, double eps) {
+  Polyline pl;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const bool last = i + 1 == points.size();
+    if (!pl.p.empty() && (points[i] - pl.p.back()).norm() <= eps) {
+      if (last && pl.p.size() > 1) {  // keep the true end
+        pl.p.back() = points[i];
+        pl.r.back() = radii[i];
+      }
+      continue;
+    }
+    pl.p.push_back(points[i]);
+    pl.r.push_back(radii[i]);
+  }
+  const std::size_t n = pl.p.size();
+  pl.s.assign(n, 0.0);
+  for (std::size_t i = 1; i < n; ++i) pl.s[i] = pl.s[i - 1] + (pl.p[i] - pl.p[i - 1]).norm();
+  if (n < 2) return pl;
+  pl.t.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vector3d in = i > 0 ? Vector3d((pl.p[i] - pl.p[i - 1]).normalized()) : Vector3d::Zero();
+    const Vector3d out = i + 1 < n ? Vector3d((pl.p[i + 1] - pl.p[i]).normalized()) : Vector3d::Zero();
+    const Vector3d sum = in + out;
+    pl.t[i] = sum.norm() > 1e-9 ? Vector3d(sum.normalized()) : (out.isZero() ? in : out);
+  }
+  pl.u.resize(n);
+  pl.u[0] = pl.t[0].unitOrthogonal();
+  for (std::size_t i = 1; i < n; ++i) pl.u[i] = transport(pl.u[i - 1], pl.t[i - 1], pl.t[i]);
+  return pl;
+}
+
+/// The ring at arc length `s` (clamped to the polyline), `sides` sides, radii times `scale`.
+Ring ring_at(const Polyline& pl, double s, int sides) {
+  const std::size_t n = pl.p.size();
+  s = std::clamp(s, 0.0, pl.length());
+  std::size_t i = static_cast<std::size_t>(std::upper_bound(pl.s.begin(), pl.s.end(), s) - pl.s.begin());
+  i = i == 0 ? 0 : i - 1;
+  if (i + 1 >= n) i = n - 2;
+  Ring ring;
+  ring.sides = sides;
+  const double len = pl.s[i + 1] - pl.s[i];
+  const double f = len > 0.0 ? (s - pl.s[i]) / len : 0.0;
+  ring.centre = (1.0 - f) * pl.p[i] + f * pl.p[i + 1];
+  const double radius = (1.0 - f) * pl.r[i] + f * pl.r[i + 1];
+  ring.radius = radius * area_factor(sides);
+  if (f <= 1e-12) {
+    ring.normal = pl.t[i];
+    ring.u = pl.u[i];
+  } else if (f >= 1.0 - 1e-12) {
+    ring.normal = pl.t[i + 1];
+    ring.u = pl.u[i + 1];
+  } else {
+    ring.normal = (pl.p[i + 1] - pl.p[i]).normalized();
+    ring.u = transport(pl.u[i], pl.t[i], ring.normal);
+  }
+  return ring;
+}
+
+/// Largest signed distance of ring `b`'s circle from the plane of ring `a` (normal `na`).
+double reach_beyond(const Ring& a, const Vector3d& na, const Ring& b) {
+  const double c = std::clamp(na.dot(b.normal), -1.0, 1.0);
+  return (b.centre - a.centre).dot(na) + b.radius * std::sqrt(std::max(0.0, 1.0 - c * c));
+}
+
+/// Ring `b` lies wholly ahead of ring `a` and `a` wholly behind `b` (no crossing between them).
+bool compatible(const Ring& a, const Ring& b, double margin) {
+  return -reach_beyond(a, -a.normal, b) > margin && reach_beyond(b, b.normal, a) < -margin;
+}
+
+struct UnionFind {
+  std::vector<std::size_t> up;
+  explicit UnionFind(std::size_t n) : up(n) { std::iota(up.begin(), up.end(), 0); }
+  std::size_t find(std::size_t x) {
+    while (up[x] != x) x = up[x] = up[up[x]];
+    return x;
+  }
+  bool unite(std::size_t a, std::size_t b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return false;
+    up[b] = a;
+    return true;
+  }
+};
+
+/// Outcome of one attempt to build the mesh of a (pruned, scaled) skeleton.
+struct Attempt {
+  std::size_t absorbed = 0;    // twigs too short to leave their join's hull, left inside it
+  std::vector<NodeId> shrink;  // subtrees (by their top node) to thin, then try again
+  std::optional<TreeMesh> mesh;
+  std::vector<NodeId> face_owner;  // per face: top node of the branch or join that made it
+  std::vector<double> owner_radius;  // per face: that branch's or join's radius
+  std::size_t branches = 0, junctions = 0, merged_forks = 0;
+};
+
+class Builder {
+ public:
+  /// `shrinkable[v]`: the repair may still thin the subtree of node v.
+  Builder(const Skeleton& sk, const SweepOptions& o, std::vector<bool> shrinkable)
+      : sk_(sk), o_(o), t_(build_chains(sk)), shrinkable_(std::move(shrinkable)) {}
+
+  Attempt run() {
+    const auto& g = sk_.graph;
+    const std::size_t n = boost::num_vertices(g);
+    double max_radius = 0.0, extent = 0.0;
+    for (NodeId v = 0; v < n; ++v) {
+      max_radius = std::max(max_radius, g[v].radius);
+      extent = std::max(extent, g[v].position.cwiseAbs().maxCoeff());
+    }
+    eps_ = 1e-9 * std::max({max_radius, extent, 1e-300});
+    // Polylines; a chain leaving a fork starts with the radius of its own first node.
+    const bool root_fork = t_.children[sk_.root].size() >= 2;
+    for (const auto& c : t_.chains) {
+      std::vector<Vector3d> pts;
+      std::vector<double> radii;
+      for (NodeId v : c.nodes) {
+        pts.push_back(g[v].position);
+        radii.push_back(g[v].radius);
+      }
+      if (c.nodes.front() != sk_.root || root_fork) radii[0] = radii[1];
+      lines_.push_back(make_polyline(pts, radii, eps_));
+      const double r0 = radii[0];
+      sides_.push_back(std::clamp(static_cast<int>(std::lround(o_.trunk_segments * r0 / max_radius)), o_.min_segments,
+                                  o_.max_segments));
+    }
+    // Junction nodes: forks, and the root when it has several children.
+    is_junction_.assign(n, false);
+    for (const auto& c : t_.chains)
+      if (!c.children.empty()) is_junction_[c.nodes.back()] = true;
+    if (root_fork) is_junction_[sk_.root] = true;
+
+    Attempt attempt;
+    UnionFind uf(n);
+    absorbed_.assign(t_.chains.size(), false);
+    ring_d_.assign(t_.chains.size(), {0.0, 0.0});
+    ring_neck_.assign(t_.chains.size(), {1.0, 1.0});
+    std::set<std::size_t> settled;  // joins (by representative) whose rings fit as they are
+    for (int round = 0;; ++round) {
+      if (round > static_cast<int>(n) + 10) throw Error("internal: the fork joins did not settle");
+      clusters_.clear();
+      for (NodeId v = 0; v < n; ++v)
+        if (is_junction_[v]) clusters_[uf.find(v)].nodes.push_back(v);
+      collect_arms(uf);
+      bool changed = false;
+      std::vector<std::size_t> dirty;
+      for (auto& [id, cl] : clusters_) {
+        if (settled.count(id)) continue;
+        const auto failed = solve(cl);
+        if (!failed) {
+          settled.insert(id);
+          continue;
+        }
+        const Arm& arm = cl.arms[*failed];
+        const auto& chain = t_.chains[arm.chain];
+        if (arm.kind == Arm::leaf) {  // a twig that never leaves the hull: the hull stands for it
+          absorbed_[arm.chain] = true;
+          ++attempt.absorbed;
+        } else if (arm.kind == Arm::inner) {
+          if (!compact_merge(uf, chain.nodes.front(), chain.nodes.back()) && shrinkable_[chain.nodes[1]]) {
+            attempt.shrink.push_back(chain.nodes[1]);  // thin the upper branch rather than bulge a hull
+            return attempt;
+          }
+          if (uf.unite(chain.nodes.front(), chain.nodes.back())) ++attempt.merged_forks;
+          dirty.push_back(chain.nodes.front());
+        } else {  // the root chain is too short: the root joins the hull, which closes the base
+          is_junction_[sk_.root] = true;
+          uf.unite(chain.nodes.back(), sk_.root);
+          dirty.push_back(sk_.root);
+        }
+        changed = true;
+      }
+      // Merges change representatives: find the settled joins again, less the ones that grew.
+      std::set<std::size_t> still;
+      for (std::size_t id : settled) still.insert(uf.find(id));
+      for (std::size_t v : dirty) still.erase(uf.find(v));
+      settled = std::move(still);
+      if (changed) continue;
+      // Settled joins were skipped above, and their arms were collected afresh: place their rings.
+      bool all = true;
+      for (auto& [id, cl] : clusters_)
+        if (solve(cl)) {
+          settled.erase(id);
+          all = false;
+        }
+      if (!all) continue;
+      // The rings at both ends of a chain must leave room between them and must not cross.
+      for (std::size_t c = 0; c < t_.chains.size(); ++c) {
+        const auto& chain = t_.chains[c];
+        const NodeId a = chain.nodes.front(), b = chain.nodes.back();
+        const bool ja = is_junction_[a], jb = is_junction_[b];
+        if (absorbed_[c] || (ja && jb && uf.find(a) == uf.find(b))) continue;
+        const Polyline& pl = lines_[c];
+        const double s0 = ja ? ring_d_[c][0] : 0.0;
+        const double s1 = jb ? pl.length() - ring_d_[c][1] : tip_arc(pl, s0);
+        Ring first = ring_at(pl, s0, sides_[c]), last = ring_at(pl, s1, sides_[c]);
+        first.radius *= ja ? ring_neck_[c][0] : 1.0;
+        last.radius *= jb ? ring_neck_[c][1] : 1.0;
+        if (s1 - s0 > 0.05 * pl.length() && compatible(first, last, eps_)) continue;
+        if (ja && jb && !compact_merge(uf, a, b) && shrinkable_[chain.nodes[1]]) {
+          attempt.shrink.push_back(chain.nodes[1]);  // thin the upper branch rather than bulge a hull
+          return attempt;
+        }
+        if (ja && jb) {  // two forks too close for a branch between them: one join
+          settled.erase(uf.find(a));
+          settled.erase(uf.find(b));
+          if (uf.unite(a, b)) ++attempt.merged_forks;
+        } else if (ja) {  // a twig that cannot leave its join
+          absorbed_[c] = true;
+          ++attempt.absorbed;
+          settled.erase(uf.find(a));
+        } else {  // the root chain: the root joins the hull
+          is_junction_[sk_.root] = true;
+          uf.unite(b, sk_.root);
+          settled.erase(uf.find(b));
+        }
+        all = false;
+      }
+      if (!all) {
+        std::set<std::size_t> still;
+        for (std::size_t id : settled) still.insert(uf.find(id));
+        settled = std::move(still);
+      }
+      if (all) break;
+    }
+    build(uf, attempt);
+    return attempt;
+  }
+
+ private:
+  struct Arm {
+    enum Kind { leaf, inner, root } kind = leaf;
+    std::size_t chain = 0;
+    bool forward = true;  // leaves its join at the chain's start (else at its end, toward the root)
+    double available = 0.0;
+    double d = 0.0;  // ring distance from the join along the chain
+    double neck = 1.0;  // ring radius factor at the join (below 1 at narrow forks)
+  };
+  struct Cluster {
+    std::vector<NodeId> nodes;
+    std::vector<Arm> arms;
+  };
+
+  /// The arms of every join: the chains with exactly one end in it.
+  void collect_arms(UnionFind& uf) {
+    for (std::size_t c = 0; c < t_.chains.size(); ++c) {
+      if (absorbed_[c]) continue;
+      const auto& chain = t_.chains[c];
+      const NodeId a = chain.nodes.front(), b = chain.nodes.back();
+      const std::ptrdiff_t ca = is_junction_[a] ? static_cast<std::ptrdiff_t>(uf.find(a)) : -1;
+      const std::ptrdiff_t cb = is_junction_[b] ? static_cast<std::ptrdiff_t>(uf.find(b)) : -1;
+      if (ca == cb) continue;  // inside one join (or a lone chain from the root to a tip)
+      const double length = lines_[c].length();
+      for (const bool forward : {true, false}) {
+        const std::ptrdiff_t here = forward ? ca : cb, there = forward ? cb : ca;
+        if (here < 0) continue;
+        Arm arm;
+        arm.chain = c;
+        arm.forward = forward;
+        if (there >= 0) {
+          arm.kind = Arm::inner;
+          arm.available = 0.45 * length;
+        } else if (forward) {
+          arm.kind = Arm::leaf;
+          arm.available = 0.7 * length;
+        } else {
+          arm.kind = Arm::root;
+          arm.available = 0.8 * length;
+        }
+        clusters_[static_cast<std::size_t>(here)].arms.push_back(arm);
+      }
+    }
+  }
+
+  /// Ring of an arm at distance d from its join, and its outward normal.
+  std::pair<Ring, Vector3d> arm_ring(const Arm& arm, double d) const {
+    const Polyline& pl = lines_[arm.chain];
+    Ring ring = ring_at(pl, arm.forward ? d : pl.length() - d, sides_[arm.chain]);
+    ring.radius *= arm.neck;
+    return {ring, arm.forward ? ring.normal : Vector3d(-ring.normal)};
+  }
+
+  /// Pushes each arm's ring out until every ring's plane has all other rings behind it. Returns the
+  /// arm that ran out of length, if one did.
+  std::optional<std::size_t> solve(Cluster& cl) {
+    const std::size_t k = cl.arms.size();
+    double r_max = 0.0;
+    for (auto& arm : cl.arms) {
+      const Polyline& pl = lines_[arm.chain];
+      // An inner chain is shared with the join at its other end.
+      if (arm.kind == Arm::inner) arm.available = 0.9 * pl.length() - ring_d_[arm.chain][arm.forward ? 1 : 0];
+      arm.neck = 1.0;
+      r_max = std::max(r_max, arm.forward ? pl.r.front() : pl.r.back());
+    }
+    const double reach = o_.join_reach * r_max;
+    std::vector<std::size_t> partner(k, 0);  // the arm whose ring most crosses each arm's plane
+    for (int neck_round = 0;; ++neck_round) {
+      const auto failed = place(cl, reach, partner);
+      if (!failed) {
+        for (const auto& arm : cl.arms) {
+          ring_d_[arm.chain][arm.forward ? 0 : 1] = arm.d;
+          ring_neck_[arm.chain][arm.forward ? 0 : 1] = arm.neck;
+        }
+        return std::nullopt;
+      }
+      const std::size_t i = *failed, j = partner[i];
+      const bool short_twig = cl.arms[i].kind == Arm::leaf && cl.arms[i].available < reach;
+      if (!short_twig && neck_round < o_.max_necks) {
+        // A narrow fork: both arms are thinned where they meet, so that their rings clear each
+        // other close to the fork.
+        cl.arms[i].neck *= 0.8;
+        cl.arms[j].neck *= 0.8;
+        continue;
+      }
+      // A twig is given up before two joins are merged.
+      if (cl.arms[i].kind != Arm::leaf && cl.arms[j].kind == Arm::leaf) return j;
+      return i;
+    }
+  }
+
+  /// Pushes each arm's ring out until every ring's plane has all other rings behind it, each ring
+  /// within `reach` of the join and its chain's room. Returns the arm that ran out of room.
+  std::optional<std::size_t> place(Cluster& cl, double reach, std::vector<std::size_t>& partner) const {
+    const std::size_t k = cl.arms.size();
+    for (auto& arm : cl.arms)
+      arm.d = std::min(0.25 * lines_[arm.chain].r[arm.forward ? 0 : lines_[arm.chain].r.size() - 1], arm.available);
+    for (int it = 0; it < kMaxJunctionIterations; ++it) {
+      std::vector<std::pair<Ring, Vector3d>> rings;
+      for (const auto& arm : cl.arms) rings.push_back(arm_ring(arm, arm.d));
+      bool moved = false;
+      std::vector<double> step(k, 0.0);
+      for (std::size_t i = 0; i < k; ++i) {
+        double worst = -1e300, worst_cos = 0.0;
+        for (std::size_t j = 0; j < k; ++j) {
+          if (j == i) continue;
+          const double r = reach_beyond(rings[i].first, rings[i].second, rings[j].first);
+          if (r > worst) {
+            worst = r;
+            worst_cos = rings[i].second.dot(rings[j].second);
+            partner[i] = j;
+          }
+        }
+        const double margin = 0.02 * rings[i].first.radius + eps_;
+        if (worst + margin > 0.0) {
+          step[i] = (worst + margin) / std::max(1.0 - std::max(worst_cos, 0.0), 0.1);
+          moved = true;
+        }
+      }
+      if (!moved) return std::nullopt;
+      std::optional<std::size_t> failed;
+      double worst_over = 0.0;
+      for (std::size_t i = 0; i < k; ++i) {
+        cl.arms[i].d += step[i];
+        double over = cl.arms[i].d / std::max(std::min(cl.arms[i].available, reach), eps_);
+        if (cl.arms[i].kind == Arm::leaf) over *= 2.0;  // twigs first
+        if (over > 1.0 && over > worst_over) {
+          worst_over = over;
+          failed = i;
+        }
+      }
+      if (failed) return failed;
+    }
+    std::size_t worst = 0;
+    for (std::size_t i = 1; i < k; ++i)
+      if (cl.arms[i].d / cl.arms[i].available > cl.arms[worst].d / cl.arms[worst].available) worst = i;
+    return worst;
+  }
+
+  /// Arc length of the last ring of a chain ending in a tip (its first ring at `s0`).
+  static double tip_arc(const Polyline& pl, double s0) {
+    const double length = pl.length();
+    return std::max(s0 + 0.6 * (length - s0), length - 0.5 * pl.r.back());
+  }
+
+  /// Whether the joins of forks `a` and `b` would, merged, still span at most `join_reach` radii
+  /// of their thickest branch.
+  bool compact_merge(UnionFind& uf, NodeId a, NodeId b) {
+    const std::size_t ra = uf.find(a), rb = uf.find(b);
+    std::vector<NodeId> forks;
+    double r_max = 0.0;
+    for (NodeId v = 0; v < is_junction_.size(); ++v)
+      if (is_junction_[v] && (uf.find(v) == ra || uf.find(v) == rb)) {
+        forks.push_back(v);
+        r_max = std::max(r_max, sk_[v].radius);
+      }
+    for (std::size_t i = 0; i < forks.size(); ++i)
+      for (std::size_t j = i + 1; j < forks.size(); ++j)
+        if ((sk_[forks[i]].position - sk_[forks[j]].position).norm() > o_.join_reach * r_max) return false;
+    return true;
+  }
+
+  NodeId chain_top(std::size_t c) const { return t_.chains[c].nodes[1]; }
+
+  void build(UnionFind& uf, Attempt& attempt) {
+    const auto& g = sk_.graph;
+    std::vector<Vector3d> vertices;
+    std::vector<std::array<std::size_t, 3>> faces;
+    auto add_face = [&](std::size_t a, std::size_t b, std::size_t c, NodeId owner, double radius) {
+      faces.push_back({a, b, c});
+      attempt.face_owner.push_back(owner);
+      attempt.owner_radius.push_back(radius);
+    };
+    auto add_ring = [&](const Ring& ring) {
+      const std::size_t first = vertices.size();
+      for (int k = 0; k < ring.sides; ++k) vertices.push_back(ring.vertex(k));
+      return first;
+    };
+    // Rings at the joins, keyed by (chain, at its start?).
+    struct JoinRing {
+      double arc;
+      std::size_t first_vertex;
+      Ring ring;
+    };
+    std::map<std::pair<std::size_t, bool>, JoinRing> join_ring;
+    for (auto& [id, cl] : clusters_) {
+      ++attempt.junctions;
+      NodeId top = cl.nodes.front();
+      double radius = 0.0;
+      std::vector<std::size_t> first_vertex;
+      std::vector<Ring> rings;
+      for (const auto& arm : cl.arms) {
+        const Polyline& pl = lines_[arm.chain];
+        const double arc = arm.forward ? arm.d : pl.length() - arm.d;
+        const Ring ring = arm_ring(arm, arm.d).first;
+        rings.push_back(ring);
+        first_vertex.push_back(add_ring(ring));
+        join_ring[{arm.chain, arm.forward}] = {arc, first_vertex.back(), ring};
+        radius = std::max(radius, ring.radius);
+        if (!arm.forward) top = t_.chains[arm.chain].nodes.back();
+      }
+      if (!cl.arms.empty() && std::none_of(cl.arms.begin(), cl.arms.end(), [](const Arm& a) { return !a.forward; }))
+        top = sk_.root;
+      std::vector<std::pair<Vector3d, std::size_t>> apex;
+      if (cl.arms.size() == 1) {  // every other arm left inside: a cone closes the branch
+        const auto [ring, outward] = arm_ring(cl.arms.front(), cl.arms.front().d);
+        vertices.push_back(ring.centre - outward * std::max(0.25 * ring.radius, cl.arms.front().d));
+        apex.emplace_back(vertices.back(), vertices.size() - 1);
+      }
+      hull_faces(rings, first_vertex, apex, top, radius, add_face, attempt);
+    }
+    // Tubes.
+    for (std::size_t c = 0; c < t_.chains.size(); ++c) {
+      const auto& chain = t_.chains[c];
+      const NodeId a = chain.nodes.front(), b = chain.nodes.back();
+      if (absorbed_[c]) continue;
+      if (is_junction_[a] && is_junction_[b] && uf.find(a) == uf.find(b)) continue;  // inside a join
+      ++attempt.branches;
+      const Polyline& pl = lines_[c];
+      const int sides = sides_[c];
+      const NodeId owner = chain_top(c);
+      const double margin_scale = 0.01;
+      // First ring: at the join, or at the root with a flat base cap.
+      double s0 = 0.0;
+      std::size_t first_vertex = 0;
+      Ring first;
+      if (is_junction_[a]) {
+        const JoinRing& j = join_ring.at({c, true});
+        s0 = j.arc;
+        first_vertex = j.first_vertex;
+        first = j.ring;
+      } else {
+        first = ring_at(pl, 0.0, sides);
+        first_vertex = add_ring(first);
+        vertices.push_back(first.centre);
+        const std::size_t centre = vertices.size() - 1;
+        for (int k = 0; k < sides; ++k)
+          add_face(first_vertex + (k + 1) % sides, first_vertex + k, centre, owner, first.radius);
+      }
+      // Last ring: at the join, or before the tip.
+      double s1;
+      std::size_t last_vertex = 0;
+      Ring last;
+      const bool tip = !is_junction_[b];
+      if (!tip) {
+        const JoinRing& j = join_ring.at({c, false});
+        s1 = j.arc;
+        last_vertex = j.first_vertex;
+        last = j.ring;
+      } else {
+        s1 = tip_arc(pl, s0);
+        last = ring_at(pl, s1, sides);
+      }
+      // Rings in between, wherever the branch has run or turned enough, none crossing the last.
+      std::vector<Ring> rings{first};
+      for (std::size_t i = 1; i + 1 < pl.p.size(); ++i) {
+        if (pl.s[i] <= s0 || pl.s[i] >= s1) continue;
+        const Ring candidate = ring_at(pl, pl.s[i], sides);
+        const Ring& prev = rings.back();
+        const double r = std::max(candidate.radius, prev.radius);
+        const bool far = (candidate.centre - prev.centre).norm() >= o_.ring_spacing * r;
+        const bool turned = std::acos(std::clamp(candidate.normal.dot(prev.normal), -1.0, 1.0)) > o_.max_turn;
+        if (!far && !turned) continue;
+        if (!compatible(prev, candidate, margin_scale * r + eps_)) continue;
+        rings.push_back(candidate);
+      }
+      while (rings.size() > 1 && !compatible(rings.back(), last, margin_scale * std::max(rings.back().radius, last.radius) + eps_))
+        rings.pop_back();
+      if (!compatible(rings.back(), last, eps_)) {
+        attempt.shrink.push_back(owner);
+        continue;
+      }
+      std::vector<std::size_t> ids{first_vertex};
+      for (std::size_t i = 1; i < rings.size(); ++i) ids.push_back(add_ring(rings[i]));
+      ids.push_back(tip ? add_ring(last) : last_vertex);
+      for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
+        const std::size_t p = ids[i], q = ids[i + 1];
+        for (int k = 0; k < sides; ++k) {
+          const std::size_t k1 = (k + 1) % sides;
+          add_face(p + k, p + k1, q + k1, owner, first.radius);
+          add_face(p + k, q + k1, q + k, owner, first.radius);
+        }
+      }
+      if (tip) {
+        const double height = std::max((pl.p.back() - last.centre).dot(last.normal), 0.25 * last.radius);
+        vertices.push_back(last.centre + height * last.normal);
+        const std::size_t apex = vertices.size() - 1, q = ids.back();
+        for (int k = 0; k < sides; ++k) add_face(q + k, q + (k + 1) % sides, apex, owner, first.radius);
+      }
+    }
+    if (!attempt.shrink.empty()) return;
+    TreeMesh mesh;
+    std::vector<TreeMesh::VertexHandle> handles;
+    handles.reserve(vertices.size());
+    for (const auto& v : vertices) handles.push_back(mesh.add_vertex(TreeMesh::Point(v.x(), v.y(), v.z())));
+    std::vector<NodeId> owners;
+    std::vector<double> radii;
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const auto h = mesh.add_face(handles[faces[f][0]], handles[faces[f][1]], handles[faces[f][2]]);
+      if (!h.is_valid()) {
+        attempt.shrink.push_back(attempt.face_owner[f]);
+        continue;
+      }
+      owners.push_back(attempt.face_owner[f]);
+      radii.push_back(attempt.owner_radius[f]);
+    }
+    attempt.face_owner = std::move(owners);
+    attempt.owner_radius = std::move(radii);
+    // Vertices no face uses (none expected) would make the mesh look open to some tools.
+    mesh.request_vertex_status();
+    mesh.request_edge_status();
+    mesh.request_face_status();
+    bool isolated = false;
+    for (auto v : mesh.vertices())
+      if (mesh.is_isolated(v)) {
+        mesh.delete_vertex(v, false);
+        isolated = true;
+      }
+    if (isolated) mesh.garbage_collection();
+    (void)g;
+    attempt.mesh = std::move(mesh);
+  }
+
+  template <class AddFace>
+  void hull_faces(const std::vector<Ring>& rings, const std::vector<std::size_t>& first_vertex,
+                  const std::vector<std::pair<Vector3d, std::size_t>>& extra, NodeId top, double radius,
+                  AddFace& add_face, Attempt& attempt) const {
+    using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+    std::vector<K::Point_3> points;
+    std::map<std::array<double, 3>, std::pair<std::size_t, std::size_t>> index;  // point -> (ring, vertex id)
+    for (std::size_t i = 0; i < rings.size(); ++i)
+      for (int k = 0; k < rings[i].sides; ++k) {
+        const Vector3d p = rings[i].vertex(k);
+        points.emplace_back(p.x(), p.y(), p.z());
+        index[{p.x(), p.y(), p.z()}] = {i, first_vertex[i] + static_cast<std::size_t>(k)};
+      }
+    for (std::size_t i = 0; i < extra.size(); ++i) {
+      const Vector3d& p = extra[i].first;
+      points.emplace_back(p.x(), p.y(), p.z());
+      index[{p.x(), p.y(), p.z()}] = {rings.size() + i, extra[i].second};
+    }
+    CGAL::Surface_mesh<K::Point_3> hull;
+    CGAL::convex_hull_3(points.begin(), points.end(), hull);
+    if (hull.number_of_vertices() != points.size()) {
+      attempt.shrink.push_back(top);
+      return;
+    }
+    for (auto f : hull.faces()) {
+      std::array<std::pair<std::size_t, std::size_t>, 3> corner;
+      int k = 0;
+      for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
+        if (k == 3) break;
+        const auto& p = hull.point(v);
+        corner[static_cast<std::size_t>(k++)] = index.at({p.x(), p.y(), p.z()});
+      }
+      if (corner[0].first == corner[1].first && corner[1].first == corner[2].first) continue;  // a ring's own face
+      add_face(corner[0].second, corner[1].second, corner[2].second, top, radius);
+    }
+  }
+
+  const Skeleton& sk_;
+  const SweepOptions& o_;
+  ChainTree t_;
+  double eps_ = 0.0;
+  std::vector<Polyline> lines_;
+  std::vector<int> sides_;
+  std::vector<bool> is_junction_;
+  std::vector<bool> shrinkable_;
+  std::vector<bool> absorbed_;  // per chain: a twig left inside its join's hull
+  std::vector<std::array<double, 2>> ring_neck_;  // per chain: neck factor of those rings
+  std::vector<std::array<double, 2>> ring_d_;  // per chain: ring distance from its start's join, its end's join
+  std::map<std::size_t, Cluster> clusters_;
+};
+
+/// Nodes of the subtree hanging from `top` (with `top`).
+std::vector<NodeId> subtree(const std::vector<std::vector<NodeId>>& children, NodeId top) {
+  std::vector<NodeId> out{top};
+  for (std::size_t i = 0; i < out.size(); ++i)
+    for (NodeId c : children[out[i]]) out.push_back(c);
+  return out;
+}
+
+/// Distance from `p` to the polyline through `nodes`.
+double distance_to_polyline(const Skeleton& sk, const std::vector<NodeId>& nodes, const Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 1 < nodes.size(); ++i)
+    best = std::min(best, point_segment_distance(p, sk[nodes[i]].position, sk[nodes[i + 1]].position));
+  return best;
+}
+
+/// Unit direction from the first node of `nodes` to the point `arc` along them.
+Vector3d direction_along(const Skeleton& sk, const std::vector<NodeId>& nodes, double arc) {
+  double run = 0.0;
+  for (std::size_t i = 1; i < nodes.size(); ++i) {
+    run += (sk[nodes[i]].position - sk[nodes[i - 1]].position).norm();
+    if (run >= arc || i + 1 == nodes.size()) {
+      const Vector3d d = sk[nodes[i]].position - sk[nodes.front()].position;
+      return d.norm() > 0.0 ? Vector3d(d.normalized()) : Vector3d::Zero();
+    }
+  }
+  return Vector3d::Zero();
+}
+
+/// A branch that leaves a thicker one at a narrow angle runs inside it for a while, and a hull
+/// joining the two would be a long fin. Such a branch is re-attached where it comes out of the
+/// thicker one's surface: its hidden base is removed and it hangs from the thicker branch's node
+/// nearest to where it emerges. Returns the new id of every node (-1 for removed ones).
+std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angle, std::size_t& moved) {
+  const ChainTree t = build_chains(sk);
+  const std::size_t n = boost::num_vertices(sk.graph);
+  std::vector<bool> keep(n, true);
+  std::vector<std::pair<NodeId, NodeId>> removed_edges, added_edges;
+  std::vector<std::vector<std::size_t>> leaving(n);
+  enum Role : char { none_role, moved_role, host_role };
+  std::vector<Role> role(n, none_role);
+  for (std::size_t c = 0; c < t.chains.size(); ++c) leaving[t.chains[c].nodes.front()].push_back(c);
+  for (NodeId v = 0; v < n; ++v) {
+    if (leaving[v].size() < 2) continue;
+    // Arms from the fork outward: its chains, and the chain it ends, reversed.
+    std::vector<std::vector<NodeId>> arms;
+    for (std::size_t c : leaving[v]) arms.push_back(t.chains[c].nodes);
+    const std::size_t children = arms.size();
+    if (t.chain_of[v] >= 0) {
+      const auto& in = t.chains[static_cast<std::size_t>(t.chain_of[v])].nodes;
+      arms.emplace_back(in.rbegin(), in.rend());
+    }
+    auto radius = [&](const std::vector<NodeId>& arm) { return sk[arm[1]].radius; };
+    for (std::size_t i = 0; i < children; ++i) {
+      const auto& twig = arms[i];
+      if (!keep[twig[1]] || role[twig[1]] == host_role) continue;
+      for (std::size_t j = 0; j < arms.size(); ++j) {
+        const auto& host = arms[j];
+        if (j == i || radius(host) < radius(twig) || role[host[1]] == moved_role) continue;
+        const double big = radius(host);
+        const Vector3d a = direction_along(sk, twig, 2.0 * big), b = direction_along(sk, host, 2.0 * big);
+        if (a.isZero() || b.isZero() || std::acos(std::clamp(a.dot(b), -1.0, 1.0)) >= min_angle) continue;
+        // Where the twig comes out of the host's surface.
+        std::size_t m = 1;
+        while (m < twig.size() && distance_to_polyline(sk, host, sk[twig[m]].position) <= big + sk[twig[m]].radius) ++m;
+        if (m >= twig.size() - 1 && t.children[twig.back()].empty()) break;  // a twig hidden in its host
+        if (m >= twig.size()) break;
+        const Vector3d q = sk[twig[m]].position;
+        std::size_t k = 1;
+        for (std::size_t h = 1; h < host.size(); ++h)
+          if ((sk[host[h]].position - q).squaredNorm() < (sk[host[k]].position - q).squaredNorm()) k = h;
+        if (!keep[host[k]]) break;
+        removed_edges.emplace_back(twig[m - 1], twig[m]);
+        added_edges.emplace_back(host[k], twig[m]);
+        for (std::size_t h = 1; h < m; ++h) keep[twig[h]] = false;
+        // A moved branch hosts no other, and a host is not moved: no cycle can form.
+        role[twig[1]] = moved_role;
+        role[twig[m]] = moved_role;
+        role[host[1]] = host_role;
+        ++moved;
+        break;
+      }
+    }
+  }
+  for (const auto& [a, b] : removed_edges) boost::remove_edge(a, b, sk.graph);
+  for (const auto& [a, b] : added_edges) boost::add_edge(a, b, sk.graph);
+  return compact_nodes(sk, keep);
+}
+
+}  // namespace
+
+TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, SweepStats* stats) {
+  if (options.min_segments < 3 || options.max_segments < options.min_segments || options.trunk_segments < 3)
+    throw OptionError("segments around a branch: need 3 <= min <= max and at least 3 around the trunk");
+  if (options.min_radius < 0.0) throw OptionError("the minimum branch radius must not be negative");
+  if (!(options.ring_spacing > 0.0) || !(options.max_turn > 0.0)) throw OptionError("ring spacing and turn must be positive");
+  if (!(options.repair_shrink > 0.0 && options.repair_shrink < 1.0)) throw OptionError("the repair shrink factor must be in (0, 1)");
+  const ChainTree tree = build_chains(skeleton);
+  const auto& g = skeleton.graph;
+  const std::size_t n = boost::num_vertices(g);
+  if (n < 2) throw InputError("the skeleton has no branch to sweep (a single node)");
+  for (NodeId v = 0; v < n; ++v)
+    if (!(g[v].radius > 0.0) || !std::isfinite(g[v].radius))
+      throw InputError("skeleton node " + std::to_string(v) + " has radius " + std::to_string(g[v].radius) +
+                       "; every radius must be positive (fit the radii first)");
+
+  SweepStats st;
+  double max_radius = 0.0;
+  for (NodeId v = 0; v < n; ++v) max_radius = std::max(max_radius, g[v].radius);
+  std::vector<bool> keep(n, true);
+  std::vector<double> scale(n, 1.0);
+  std::vector<int> shrinks(n, 0);
+  auto drop = [&](NodeId top) {
+    for (NodeId v : subtree(tree.children, top)) keep[v] = false;
+  };
+  for (const auto& c : tree.chains)
+    if (keep[c.nodes[1]] && g[c.nodes[1]].radius < options.min_radius && c.nodes[1] != skeleton.root) {
+      drop(c.nodes[1]);
+      ++st.thin_left_out;
+    }
+  if (!keep[tree.chains.front().nodes[1]] && tree.children[skeleton.root].size() == 1)
+    throw InputError("every branch is thinner than the minimum radius; nothing is left to mesh");
+
+  const int max_attempts = 4 * static_cast<int>(n) + 50;
+  std::optional<TreeMesh> best;
+  for (int attempt_no = 0; attempt_no < max_attempts; ++attempt_no) {
+    // The kept, scaled skeleton.
+    Skeleton pruned = skeleton;
+    for (NodeId v = 0; v < n; ++v) pruned[v].radius *= scale[v];
+    const auto new_id = compact_nodes(pruned, keep);
+    std::vector<NodeId> old_id(boost::num_vertices(pruned.graph));
+    for (NodeId v = 0; v < n; ++v)
+      if (new_id[v] >= 0) old_id[static_cast<std::size_t>(new_id[v])] = v;
+    if (boost::num_vertices(pruned.graph) < 2) throw InputError("nothing is left to mesh after leaving out branches");
+    if (options.narrow_angle > 0.0) {
+      std::size_t moved = 0;
+      const auto relocated = relocate_narrow_branches(pruned, options.narrow_angle, moved);
+      std::vector<NodeId> composed(boost::num_vertices(pruned.graph));
+      for (std::size_t v = 0; v < relocated.size(); ++v)
+        if (relocated[v] >= 0) composed[static_cast<std::size_t>(relocated[v])] = old_id[v];
+      old_id = std::move(composed);
+      st.relocated_branches = moved;
+    }
+
+    std::vector<bool> shrinkable(old_id.size());
+    for (std::size_t v = 0; v < old_id.size(); ++v) {
+      const NodeId o = old_id[v];
+      const bool limb = g[o].radius >= options.max_drop_radius * max_radius;
+      shrinkable[v] = o != skeleton.root && (shrinks[o] < options.max_shrinks || !limb);
+    }
+    Builder builder(pruned, options, std::move(shrinkable));
+    Attempt a = builder.run();
+    st.branches = a.branches;
+    st.junctions = a.junctions;
+    st.merged_forks = a.merged_forks;
+    st.twigs_absorbed = a.absorbed;
+    auto shrink_or_drop = [&](NodeId top) {
+      if (shrinks[top] < options.max_shrinks) {
+        for (NodeId v : subtree(tree.children, top)) scale[v] *= options.repair_shrink;
+        ++shrinks[top];
+        ++st.repaired_shrunk;
+        return true;
+      }
+      // Only thin branches are given up; a limb is thinned further instead.
+      const bool limb = g[top].radius >= options.max_drop_radius * max_radius;
+      if (top == skeleton.root || (limb && shrinks[top] >= 2 * options.max_shrinks)) return false;
+      if (limb) {
+        for (NodeId v : subtree(tree.children, top)) scale[v] *= options.repair_shrink;
+        ++shrinks[top];
+        ++st.repaired_shrunk;
+        return true;
+      }
+      drop(top);
+      ++st.repaired_dropped;
+      return true;
+    };
+    if (!a.shrink.empty()) {
+      std::set<NodeId> tops;
+      for (NodeId v : a.shrink) tops.insert(old_id[v]);
+      bool any = false;
+      for (NodeId top : tops) any |= shrink_or_drop(top);
+      if (!any) throw Error("could not sweep the trunk: it turns too sharply for its radius");
+      continue;
+    }
+    TreeMesh mesh = std::move(*a.mesh);
+    if (!options.repair || st.repair_rounds >= options.repair_rounds) {
+      if (options.repair) st.self_intersections = self_intersecting_faces(mesh).size();
+      best = std::move(mesh);
+      break;
+    }
+    const auto pairs = self_intersecting_faces(mesh);
+    st.self_intersections = pairs.size();
+    if (pairs.empty()) {
+      best = std::move(mesh);
+      break;
+    }
+    ++st.repair_rounds;
+    std::set<NodeId> tops;
+    for (const auto& [f1, f2] : pairs) {
+      const bool first_thinner = a.owner_radius[f1] <= a.owner_radius[f2];
+      tops.insert(old_id[a.face_owner[first_thinner ? f1 : f2]]);
+    }
+    bool any = false;
+    for (NodeId top : tops)
+      if (keep[top]) any |= shrink_or_drop(top);
+    if (!any) {
+      best = std::move(mesh);
+      break;
+    }
+  }
+  if (!best) throw Error("could not build a valid mesh of this skeleton");
+  if (stats) *stats = st;
+  return std::move(*best);
+}
+
+}  // namespace treeskel::modeling
+
