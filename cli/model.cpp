@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -93,6 +94,10 @@ int run(Settings& s) {
   Eigen::Vector3d up = parse_up(s.method.up);
   if (from_skeleton) {
     skeleton = io::read_skeleton(s.input);
+    for (NodeId v = 0; v < skeleton.node_count(); ++v)
+      if (!(skeleton[v].radius > 0.0) || !std::isfinite(skeleton[v].radius))
+        throw InputError(s.input + ": node " + std::to_string(v) + " has radius " + std::to_string(skeleton[v].radius) +
+                         "; every radius of a skeleton to model must be positive");
   } else {
     cloud = io::read_point_cloud(s.input);
     SkeletonOptions o = skeleton_options_for(s.method, *cloud);

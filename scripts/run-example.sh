@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# Quick start 1: installs what is missing, builds, and skeletonizes the bundled example tree into
-# out/tree_rtwig_skeleton.ply (open it in MeshLab or CloudCompare).
+# Quick start 1: installs what is missing, builds, and turns the bundled example tree into a
+# watertight model out/tree_rtwig.glb, with its measurements (out/tree_rtwig.json), its cylinder
+# table (out/tree_rtwig_qsm.csv) and its skeleton (out/tree_rtwig_skeleton.ply).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 "$here/scripts/setup.sh"
 mkdir -p "$here/out"
-"${TREESKEL_BUILD_DIR:-$here/build}/cli/treeskel" skeletonize "$here/data/tree_rtwig.txt" -o "$here/out/tree_rtwig_skeleton.ply" "$@"
+"${TREESKEL_BUILD_DIR:-$here/build}/cli/treeskel" model "$here/data/tree_rtwig.txt" -o "$here/out/tree_rtwig.glb" \
+  --report "$here/out/tree_rtwig.json" --qsm "$here/out/tree_rtwig_qsm.csv" \
+  --skeleton "$here/out/tree_rtwig_skeleton.ply" "$@"

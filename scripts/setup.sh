@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs the Debian packages treeskel needs (only those missing) and builds it into build/.
+# Installs what treeskel needs (only what is missing) and builds it into build/.
 # Usage: scripts/setup.sh            install what is missing, configure, build
 #        TREESKEL_BUILD_DIR=dir      build somewhere else (default: build/)
 #        TREESKEL_SKIP_INSTALL=1     do not touch packages (e.g. no root and no sudo)
@@ -7,22 +7,34 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${TREESKEL_BUILD_DIR:-$here/build}
 
+# Installs Debian packages as root, or through sudo.
+apt_install() {
+  [ "${TREESKEL_SKIP_INSTALL:-0}" = 1 ] && return 0
+  local sudo=()
+  if [ "$(id -u)" -ne 0 ]; then
+    if command -v sudo >/dev/null; then sudo=(sudo); else
+      echo "setup: missing packages $*; run as root or install sudo" >&2; exit 1; fi
+  fi
+  echo "setup: installing $*" >&2
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo[@]}" apt-get update -qq
+  "${sudo[@]}" apt-get install -y -qq --no-install-recommends "$@" >/dev/null
+}
+
 packages=(build-essential cmake pkg-config
           libcgal-dev libeigen3-dev libopenmesh-dev libassimp-dev libboost-graph-dev libtbb-dev
           libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev)
-
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+[ ${#missing[@]} -eq 0 ] || apt_install "${missing[@]}"
 
-if [ ${#missing[@]} -gt 0 ] && [ "${TREESKEL_SKIP_INSTALL:-0}" != 1 ]; then
-  if [ "$(id -u)" -eq 0 ]; then sudo=(); elif command -v sudo >/dev/null; then sudo=(sudo); else
-    echo "setup: missing packages ${missing[*]}; run as root or install sudo" >&2; exit 1; fi
-  echo "setup: installing ${missing[*]}" >&2
-  export DEBIAN_FRONTEND=noninteractive
-  "${sudo[@]}" apt-get update -qq
-  "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+# The test suite checks exported glTF files with the Khronos validator, an npm package run by Node.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then apt_install nodejs npm; fi
+if command -v npm >/dev/null && [ ! -f "$here/tools/node_modules/gltf-validator/package.json" ]; then
+  echo "setup: installing the glTF validator (npm) into tools/" >&2
+  (cd "$here/tools" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)

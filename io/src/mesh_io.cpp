@@ -6,6 +6,7 @@
 
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
+#include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
@@ -145,7 +146,10 @@ void write_mesh(const fs::path& path, const modeling::TreeMesh& mesh, const Eige
 
 modeling::TreeMesh read_mesh(const fs::path& path) {
   Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_JoinIdenticalVertices);
+  // Normals (per face in STL) would keep copies of a position apart: drop them, then join.
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TEXCOORDS | aiComponent_COLORS);
+  const aiScene* scene =
+      importer.ReadFile(path.string(), aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices);
   if (scene == nullptr) throw InputError(path.string() + ": " + importer.GetErrorString());
   modeling::TreeMesh mesh;
   for (unsigned i = 0; i < scene->mNumMeshes; ++i) {

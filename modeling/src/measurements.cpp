@@ -22,7 +22,7 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
   m.breast_height = options.breast_height;
   double base = std::numeric_limits<double>::infinity(), top = -base;
   for (NodeId v = 0; v < n; ++v) {
-    top = std::max(top, g[v].position.dot(up) + g[v].radius);
+    top = std::max(top, g[v].position.dot(up));
     if (cloud)
       for (auto i : g[v].points) {
         const double h = cloud->positions[i].dot(up);

@@ -287,20 +287,25 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
     const auto nodes = own_nodes(t.chains[id]);
     const double start = area[nodes.front()];
     const std::size_t k = nodes.size();
-    // Taper: ratio of measured to pipe-model cross section, made non-increasing, smoothed, and
-    // pulled toward the model as far as the measurements are few.
-    std::vector<double> q(k, 1.0), w(k, 0.0);
+    // Taper: the measured cross sections relative to the start, made non-increasing and smoothed,
+    // against the pipe model's own taper; the measurements weigh as far as there are enough of them.
+    std::vector<double> model(k), p(k), w(k, 0.0);
     double confidence = 0.0;
-    for (std::size_t i = 1; i < k; ++i) {
+    for (std::size_t i = 0; i < k; ++i) {
+      model[i] = carried[nodes[i]] / carried[nodes.front()];
+      p[i] = model[i];
       const auto& m = measured[nodes[i]];
-      if (m.weight <= 0.0) continue;
-      q[i] = std::pow(m.radius, e) / (start * carried[nodes[i]] / carried[nodes.front()]);
+      if (i == 0 || m.weight <= 0.0) continue;
+      p[i] = std::pow(m.radius, e) / start;
       w[i] = m.weight;
       confidence += m.weight;
     }
+    p[0] = 1.0;
     w[0] = std::max(1.0, confidence);  // the start is fixed by the fork
-    auto fitted = non_increasing_fit(q, w);
-    for (auto& value : fitted) value = std::clamp(value, 0.05, 1.0);
+    for (std::size_t i = 1; i < k; ++i)
+      if (w[i] == 0.0) w[i] = 1e-3;  // unmeasured nodes follow the model, barely
+    auto fitted = non_increasing_fit(p, w);
+    for (std::size_t i = 0; i < k; ++i) fitted[i] = std::clamp(fitted[i], 0.05 * model[i], 1.0);
     std::vector<double> smooth(k);
     for (std::size_t i = 0; i < k; ++i) {
       double sum = 0.0;
@@ -311,11 +316,8 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
       smooth[i] = sum / (2 * half + 1);
     }
     const double beta = std::min(1.0, confidence / 3.0);
-    for (std::size_t i = 0; i < k; ++i) {
-      const double ratio = smooth[i] / smooth[0];
-      const double taper = 1.0 - beta * (1.0 - ratio);
-      if (i > 0) area[nodes[i]] = start * carried[nodes[i]] / carried[nodes.front()] * taper;
-    }
+    for (std::size_t i = 1; i < k; ++i)
+      area[nodes[i]] = start * (beta * smooth[i] / smooth[0] + (1.0 - beta) * model[i]);
     if (!t.chains[id].children.empty()) split_fork(nodes.back(), t.chains[id].children, true);
   }
   for (NodeId v = 0; v < n; ++v) g[v].radius = std::pow(area[v], 1.0 / e);

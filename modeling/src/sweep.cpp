@@ -19,6 +19,8 @@
 #include <set>
 #include <cstdio>
 #include <cstdlib>
+#include <cstdio>
+#include <cstdlib>
 
 namespace treeskel::modeling {
 
@@ -861,7 +863,10 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
     std::set<NodeId> tops;
     for (const auto& [f1, f2] : pairs) {
       const bool first_thinner = a.owner_radius[f1] <= a.owner_radius[f2];
-      tops.insert(old_id[a.face_owner[first_thinner ? f1 : f2]]);
+      const NodeId thin = old_id[a.face_owner[first_thinner ? f1 : f2]];
+      const NodeId thick = old_id[a.face_owner[first_thinner ? f2 : f1]];
+      // The thinner part is thinned first; if that has not cleared the crossing, the other one.
+      tops.insert(shrinks[thin] >= 2 && thick != skeleton.root && shrinks[thick] < shrinks[thin] ? thick : thin);
     }
     bool any = false;
     for (NodeId top : tops)
@@ -877,4 +882,5 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
 }
 
 }  // namespace treeskel::modeling
+
 

@@ -158,5 +158,71 @@ TEST(Cli, UsageErrorsAndHelp) {
   EXPECT_NE(help.out.find("100"), std::string::npos);  // defaults are shown
 }
 
+TEST(Cli, ModelTurnsTheExampleIntoAGlbWithReportAndQsm) {
+  test::TempDir dir;
+  const Result r = run("model -o tree.glb --report report.json --qsm qsm.csv --skeleton skeleton.json", dir.root());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("closed, manifold, no self-intersection"), std::string::npos) << r.out;
+  EXPECT_GT(fs::file_size(dir.path("tree.glb")), 1000u);
+  std::ifstream in(dir.path("report.json"));
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_TRUE(j["mesh"]["closed"].get<bool>());
+  EXPECT_EQ(j["mesh"]["self_intersections"].get<int>(), 0);
+  EXPECT_EQ(j["mesh"]["components"].get<int>(), 1);
+  EXPECT_GT(j["mesh"]["volume"].get<double>(), 0.0);
+  ASSERT_TRUE(j["measurements"].contains("dbh"));
+  EXPECT_GT(j["measurements"]["dbh"].get<double>(), 0.0);  // the rTwig tree is 3.7 m tall
+  EXPECT_GT(j["measurements"]["height"].get<double>(), 3.0);
+  std::ifstream csv(dir.path("qsm.csv"));
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("id,parent,branch,order,", 0), 0u);
+  // The saved skeleton (radii fitted) goes back in and gives a mesh again.
+  const Result again = run("model skeleton.json -o again.obj --json", dir.root());
+  ASSERT_EQ(again.code, 0) << again.out;
+  EXPECT_TRUE(nlohmann::json::parse(again.out)["radii"]["from_stored_radii"].get<bool>());
+  EXPECT_TRUE(fs::exists(dir.path("again.obj")));
+}
+
+TEST(Cli, ModelFormatsAndBadUse) {
+  test::TempDir dir;
+  const std::string cloud = quoted(test::data_file("tree_adtree1.xyz"));
+  for (const char* ext : {"obj", "ply", "stl", "gltf"}) {
+    const Result r = run("model " + cloud + " -q -o tree." + ext, dir.root());
+    EXPECT_EQ(r.code, 0) << ext << r.out;
+    EXPECT_TRUE(fs::exists(dir.path(std::string("tree.") + ext))) << ext;
+  }
+  const Result bad_ext = run("model " + cloud + " -o tree.fbx", dir.root());
+  EXPECT_EQ(bad_ext.code, 1);
+  EXPECT_NE(bad_ext.out.find("unknown mesh extension"), std::string::npos) << bad_ext.out;
+  EXPECT_FALSE(fs::exists(dir.path("tree.fbx")));
+  // A skeleton with a zero radius, an empty one and one with a cycle are refused; nothing is written.
+  {
+    std::ofstream out(dir.path("zero.json"));
+    out << R"({"format":"treeskel skeleton","version":1,"root":0,"nodes":[)"
+        << R"({"id":0,"position":[0,0,0],"radius":0.1},{"id":1,"position":[0,0,1],"radius":0}],"edges":[[0,1]]})";
+  }
+  {
+    std::ofstream out(dir.path("cycle.json"));
+    out << R"({"format":"treeskel skeleton","version":1,"root":0,"nodes":[)"
+        << R"({"id":0,"position":[0,0,0],"radius":0.1},{"id":1,"position":[0,0,1],"radius":0.1},)"
+        << R"({"id":2,"position":[1,0,1],"radius":0.1}],"edges":[[0,1],[1,2],[2,0]]})";
+  }
+  {
+    std::ofstream out(dir.path("empty.json"));
+    out << R"({"format":"treeskel skeleton","version":1,"root":0,"nodes":[],"edges":[]})";
+  }
+  for (const char* name : {"zero", "cycle", "empty"}) {
+    const Result r = run(std::string("model ") + name + ".json -o " + name + ".glb", dir.root());
+    EXPECT_EQ(r.code, 1) << name << r.out;
+    EXPECT_NE(r.out.find("error"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(dir.path(std::string(name) + ".glb"))) << name;
+  }
+  const Result help = run("model --help");
+  EXPECT_EQ(help.code, 0);
+  EXPECT_NE(help.out.find("--exponent"), std::string::npos);
+  EXPECT_NE(help.out.find("--qsm"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace treeskel

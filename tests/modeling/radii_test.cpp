@@ -1,0 +1,100 @@
+#include "model_fixtures.h"
+#include "treeskel/error.h"
+#include "treeskel/eval/cylinders.h"
+#include "treeskel/eval/paper_trees.h"
+#include "treeskel/modeling/chains.h"
+#include "treeskel/modeling/radii.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace treeskel::modeling {
+namespace {
+
+/// r(fork)^e = sum of r(child)^e at every fork, to `tolerance` relative; radii never grow toward
+/// the tips.
+void expect_pipe_model(const Skeleton& s, double e, double tolerance = 1e-6) {
+  const ChainTree t = build_chains(s);
+  std::size_t forks = 0;
+  for (NodeId v = 0; v < s.node_count(); ++v) {
+    ASSERT_GT(s[v].radius, 0.0) << v;
+    for (NodeId c : t.children[v]) EXPECT_LE(s[c].radius, s[v].radius * (1.0 + 1e-12)) << v << " -> " << c;
+    if (t.children[v].size() < 2) continue;
+    ++forks;
+    double sum = 0.0;
+    for (NodeId c : t.children[v]) sum += std::pow(s[c].radius, e);
+    EXPECT_NEAR(sum / std::pow(s[v].radius, e), 1.0, tolerance) << "fork " << v;
+  }
+  EXPECT_GT(forks, 0u);
+}
+
+TEST(MeasureNodeRadii, CircleFitRecoversAHalfScannedBranch) {
+  // One scanner sees only the +x half of a branch of radius 0.1; the nodes sit off-axis toward
+  // the scanned side, as L1-medians of such a half do.
+  eval::SurfaceSampling sampling;
+  sampling.points = 4000;
+  sampling.facing = Eigen::Vector3d::UnitX();
+  const PointCloud cloud = eval::sample_cylinders({{Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, 1), 0.1, 0.1}}, sampling);
+  Skeleton s;
+  for (int i = 0; i <= 10; ++i) {
+    SkeletonNode node;
+    node.position = Eigen::Vector3d(0.06, 0.0, 0.1 * i);
+    const NodeId v = add_node(s, node);
+    if (i > 0) boost::add_edge(v - 1, v, s.graph);
+  }
+  for (std::uint32_t i = 0; i < cloud.size(); ++i) {
+    const auto k = static_cast<NodeId>(std::lround(std::clamp((cloud.positions[i].z() + cloud.offset.z()) / 0.1, 0.0, 10.0)));
+    s[k].points.push_back(i);
+  }
+  const auto m = measure_node_radii(s, cloud);
+  for (NodeId v = 1; v < 10; ++v) {
+    EXPECT_NEAR(m[v].radius, 0.1, 0.003) << v;
+    EXPECT_GT(m[v].weight, 0.0) << v;
+  }
+}
+
+TEST(FitRadii, LeonardoAtEveryForkAndNoGrowthTowardTheTips) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> jitter(0.7, 1.3);
+  for (int index = 1; index <= 6; ++index) {
+    Skeleton s = eval::make_paper_tree(index, 1).skeleton;
+    for (NodeId v = 0; v < s.node_count(); ++v) s[v].radius *= jitter(rng);  // measurements disagree
+    RadiusStats stats;
+    fit_radii(s, nullptr, {}, &stats);
+    EXPECT_TRUE(stats.used_stored);
+    SCOPED_TRACE("tree " + std::to_string(index));
+    expect_pipe_model(s, 2.0);
+  }
+}
+
+TEST(FitRadii, ExponentIsAnOption) {
+  Skeleton s = eval::make_paper_tree(2, 1).skeleton;
+  RadiusOptions o;
+  o.exponent = 2.5;
+  fit_radii(s, nullptr, o);
+  expect_pipe_model(s, 2.5);
+}
+
+TEST(FitRadii, KeepsRadiiThatAlreadyObeyTheRule) {
+  // A Y whose radii obey Leonardo exactly: the fit keeps the trunk and the arms.
+  Skeleton s = test::y_shape(0.05, 0.6, 20);
+  fit_radii(s, nullptr);
+  EXPECT_NEAR(s[s.root].radius, 0.05, 0.05 * 0.05);
+  EXPECT_NEAR(s[static_cast<NodeId>(s.node_count() - 1)].radius, 0.05 / std::sqrt(2.0), 0.05 * 0.1);
+}
+
+TEST(FitRadii, RefusesBadInput) {
+  Skeleton empty;
+  EXPECT_THROW(fit_radii(empty, nullptr), InputError);
+  Skeleton zero = test::straight(1.0, 0.0, 4);
+  EXPECT_THROW(fit_radii(zero, nullptr), InputError);
+  Skeleton s = test::straight(1.0, 0.1, 4);
+  RadiusOptions o;
+  o.exponent = 0.5;
+  EXPECT_THROW(fit_radii(s, nullptr, o), OptionError);
+}
+
+}  // namespace
+}  // namespace treeskel::modeling

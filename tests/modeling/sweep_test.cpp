@@ -1,0 +1,141 @@
+#include "model_fixtures.h"
+#include "support/synthetic.h"
+#include "treeskel/error.h"
+#include "treeskel/eval/cylinders.h"
+#include "treeskel/eval/paper_trees.h"
+#include "treeskel/io/point_cloud_io.h"
+#include "treeskel/modeling/radii.h"
+#include "treeskel/modeling/sweep.h"
+#include "treeskel/pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace treeskel::modeling {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+void expect_valid(const TreeMesh& mesh) {
+  const MeshCheck c = check_mesh(mesh);
+  EXPECT_TRUE(c.ok()) << c.problem();
+  EXPECT_EQ(c.boundary_edges, 0u);
+  EXPECT_EQ(c.non_manifold_vertices, 0u);
+  EXPECT_EQ(c.self_intersections, 0u);
+  EXPECT_EQ(c.components, 1u);
+  EXPECT_GT(c.volume, 0.0);
+}
+
+TEST(SweepMesh, StraightBranchIsAClosedCylinderOfTheRightVolume) {
+  const Skeleton s = test::straight(4.0, 0.05, 40);
+  SweepStats stats;
+  const TreeMesh mesh = sweep_mesh(s, {}, &stats);
+  expect_valid(mesh);
+  EXPECT_EQ(stats.branches, 1u);
+  EXPECT_EQ(stats.junctions, 0u);
+  // A cone of half a radius closes the tip; polygons keep the circle's area.
+  const double expected = kPi * 0.05 * 0.05 * (4.0 - 0.025) + kPi * 0.05 * 0.05 * 0.025 / 3.0;
+  EXPECT_NEAR(check_mesh(mesh).volume / expected, 1.0, 0.005);
+  EXPECT_NEAR(check_mesh(mesh).volume / (kPi * 0.05 * 0.05 * 4.0), 1.0, 0.02);
+}
+
+/// Volume of the union of a Y's three cylinders by Monte Carlo (seeded; about 0.3% spread).
+double union_volume(double trunk_radius, double half_angle) {
+  const double r = trunk_radius / std::sqrt(2.0);
+  std::vector<eval::Cylinder> parts{{Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, 1), trunk_radius, trunk_radius}};
+  for (double sign : {-1.0, 1.0})
+    parts.push_back({Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(sign * std::sin(half_angle), 0, 1 + std::cos(half_angle)), r, r});
+  const Eigen::Vector3d lo(-1.1, -0.06, -0.01), hi(1.1, 0.06, 2.01);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int samples = 2000000;
+  int hits = 0;
+  for (int i = 0; i < samples; ++i) {
+    const Eigen::Vector3d p = lo + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(hi - lo);
+    for (const auto& c : parts)
+      if (eval::inside(c, p)) {
+        ++hits;
+        break;
+      }
+  }
+  return (hi - lo).prod() * hits / samples;
+}
+
+TEST(SweepMesh, YIsOneClosedMeshWithinTwoPercentOfItsVolume) {
+  for (double half_angle : {0.35, 0.6, 1.0}) {
+    const Skeleton s = test::y_shape(0.05, half_angle, 20);
+    SweepStats stats;
+    const TreeMesh mesh = sweep_mesh(s, {}, &stats);
+    SCOPED_TRACE(half_angle);
+    expect_valid(mesh);
+    EXPECT_EQ(stats.junctions, 1u);
+    EXPECT_NEAR(check_mesh(mesh).volume / union_volume(0.05, half_angle), 1.0, 0.02);
+  }
+}
+
+TEST(SweepMesh, PaperTreesGiveValidMeshes) {
+  for (int index = 1; index <= 6; ++index) {
+    Skeleton s = eval::make_paper_tree(index, 1).skeleton;
+    fit_radii(s, nullptr);
+    SweepStats stats;
+    const TreeMesh mesh = sweep_mesh(s, {}, &stats);
+    SCOPED_TRACE("tree " + std::to_string(index));
+    expect_valid(mesh);
+    EXPECT_GT(stats.branches, 10u);
+  }
+}
+
+TEST(SweepMesh, BundledCloudsGiveValidMeshes) {
+  for (const char* name : {"tree_rtwig.txt", "tree_adtree1.xyz"}) {
+    const PointCloud cloud = io::read_point_cloud(test::data_file(name));
+    Skeleton s = extract_skeleton(cloud);
+    fit_radii(s, &cloud);
+    const TreeMesh mesh = sweep_mesh(s);
+    SCOPED_TRACE(name);
+    expect_valid(mesh);
+  }
+}
+
+TEST(SweepMesh, ThinBranchesCanBeLeftOut) {
+  const Skeleton s = test::y_shape(0.05, 0.6, 20);
+  SweepOptions o;
+  o.min_radius = 0.04;  // the arms are 0.035
+  SweepStats stats;
+  const TreeMesh mesh = sweep_mesh(s, o, &stats);
+  EXPECT_EQ(stats.thin_left_out, 2u);
+  expect_valid(mesh);
+  EXPECT_LT(check_mesh(mesh).volume, 0.6 * kPi * 0.05 * 0.05 * 2.0);
+}
+
+TEST(SweepMesh, SegmentsFollowTheRadius) {
+  const TreeMesh thick = sweep_mesh(test::straight(1.0, 0.1, 10));
+  SweepOptions o;
+  o.trunk_segments = 12;
+  const TreeMesh coarse = sweep_mesh(test::straight(1.0, 0.1, 10), o);
+  EXPECT_LT(coarse.n_faces(), thick.n_faces());
+}
+
+TEST(SweepMesh, RefusesBadSkeletons) {
+  EXPECT_THROW(sweep_mesh(Skeleton{}), InputError);
+  Skeleton lone;
+  SkeletonNode n;
+  n.radius = 1.0;
+  add_node(lone, n);
+  EXPECT_THROW(sweep_mesh(lone), InputError);
+  Skeleton zero = test::straight(1.0, 0.1, 4);
+  zero[2].radius = 0.0;
+  EXPECT_THROW(sweep_mesh(zero), InputError);
+  Skeleton negative = test::straight(1.0, -0.1, 4);
+  EXPECT_THROW(sweep_mesh(negative), InputError);
+  Skeleton cycle = test::straight(1.0, 0.1, 4);
+  boost::add_edge(0, 4, cycle.graph);
+  EXPECT_THROW(sweep_mesh(cycle), InputError);
+  SweepOptions o;
+  o.min_segments = 2;
+  EXPECT_THROW(sweep_mesh(test::straight(1.0, 0.1, 4), o), OptionError);
+}
+
+}  // namespace
+}  // namespace treeskel::modeling

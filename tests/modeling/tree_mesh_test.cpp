@@ -1,0 +1,75 @@
+#include "treeskel/modeling/tree_mesh.h"
+
+#include <gtest/gtest.h>
+
+namespace treeskel::modeling {
+namespace {
+
+using P = TreeMesh::Point;
+
+/// A tetrahedron with corners o, o+x, o+y, o+z, faces outward (or inward when flipped).
+void add_tetrahedron(TreeMesh& m, const P& o, bool flipped = false) {
+  const auto a = m.add_vertex(o), b = m.add_vertex(o + P(1, 0, 0)), c = m.add_vertex(o + P(0, 1, 0)),
+             d = m.add_vertex(o + P(0, 0, 1));
+  auto face = [&](TreeMesh::VertexHandle x, TreeMesh::VertexHandle y, TreeMesh::VertexHandle z) {
+    if (flipped) m.add_face(x, z, y);
+    else m.add_face(x, y, z);
+  };
+  face(a, c, b);
+  face(a, b, d);
+  face(a, d, c);
+  face(b, c, d);
+}
+
+TEST(CheckMesh, ClosedOutwardTetrahedron) {
+  TreeMesh m;
+  add_tetrahedron(m, P(0, 0, 0));
+  const MeshCheck c = check_mesh(m);
+  EXPECT_TRUE(c.ok()) << c.problem();
+  EXPECT_EQ(c.boundary_edges, 0u);
+  EXPECT_EQ(c.components, 1u);
+  EXPECT_EQ(c.self_intersections, 0u);
+  EXPECT_NEAR(c.volume, 1.0 / 6.0, 1e-12);
+}
+
+TEST(CheckMesh, FindsAHole) {
+  TreeMesh m;
+  add_tetrahedron(m, P(0, 0, 0));
+  m.request_face_status();
+  m.request_edge_status();
+  m.request_vertex_status();
+  m.delete_face(*m.faces_begin(), false);
+  m.garbage_collection();
+  const MeshCheck c = check_mesh(m);
+  EXPECT_EQ(c.boundary_edges, 3u);
+  EXPECT_FALSE(c.ok());
+  EXPECT_NE(c.problem().find("not closed"), std::string::npos);
+}
+
+TEST(CheckMesh, FindsInwardNormalsAndSeveralComponents) {
+  TreeMesh inward;
+  add_tetrahedron(inward, P(0, 0, 0), true);
+  EXPECT_LT(check_mesh(inward).volume, 0.0);
+  EXPECT_NE(check_mesh(inward).problem().find("inward"), std::string::npos);
+
+  TreeMesh two;
+  add_tetrahedron(two, P(0, 0, 0));
+  add_tetrahedron(two, P(5, 0, 0));
+  EXPECT_EQ(check_mesh(two).components, 2u);
+  EXPECT_FALSE(check_mesh(two).ok());
+}
+
+TEST(CheckMesh, FindsSelfIntersections) {
+  TreeMesh m;
+  add_tetrahedron(m, P(0, 0, 0));
+  add_tetrahedron(m, P(0.2, 0.2, 0.2));
+  EXPECT_GT(check_mesh(m).self_intersections, 0u);
+  EXPECT_EQ(check_mesh(m, false).self_intersections, 0u);  // not asked
+}
+
+TEST(CheckMesh, EmptyMeshIsAProblem) {
+  EXPECT_EQ(check_mesh(TreeMesh{}).problem(), "the mesh is empty");
+}
+
+}  // namespace
+}  // namespace treeskel::modeling
