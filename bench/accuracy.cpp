@@ -15,6 +15,7 @@
 #include "treeskel/io/atomic_file.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/pipeline.h"
+#include "pypetree.h"
 
 #include <chrono>
 #include <cstdio>
@@ -104,40 +105,6 @@ struct Mean {
     return r;
   }
 };
-
-/// pypetree's artificial tree: cloud and exact model, both Y up, as a normalised ground truth.
-bool load_pypetree(const std::string& dir, PointCloud& cloud, Skeleton& truth) {
-  const fs::path cloud_path = fs::path(dir) / "artificial_cloud.asc", model_path = fs::path(dir) / "artificial_model.csv";
-  if (!fs::exists(cloud_path) || !fs::exists(model_path)) return false;
-  cloud = io::read_point_cloud(cloud_path);
-  std::ifstream in(model_path);
-  std::string line;
-  std::getline(in, line);
-  std::map<long, NodeId> ids;
-  std::vector<std::pair<long, long>> links;
-  while (std::getline(in, line)) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
-    if (f.size() < 6) continue;
-    SkeletonNode n;
-    n.position = Eigen::Vector3d(std::stod(f[2]), std::stod(f[3]), std::stod(f[4])) - cloud.offset;
-    n.radius = std::stod(f[5]);
-    ids[std::stol(f[0])] = add_node(truth, n);
-    if (!f[1].empty()) links.emplace_back(std::stol(f[0]), std::stol(f[1]));
-    else truth.root = ids[std::stol(f[0])];
-  }
-  for (const auto& [a, b] : links) boost::add_edge(ids.at(a), ids.at(b), truth.graph);
-  // Normalise both like the synthetic set: longest side of the cloud's box is 1.
-  const double size = bounding_box(cloud).sizes().maxCoeff();
-  for (auto& p : cloud.positions) p /= size;
-  for (NodeId v = 0; v < truth.node_count(); ++v) {
-    truth[v].position /= size;
-    truth[v].radius /= size;
-  }
-  cloud.offset.setZero();
-  return true;
-}
 
 }  // namespace
 
@@ -325,7 +292,7 @@ int main(int argc, char** argv) {
     PointCloud cloud;
     Skeleton truth;
     md << "## A real exact model: pypetree's artificial tree\n\n";
-    if (load_pypetree(pypetree, cloud, truth)) {
+    if (bench::load_pypetree(pypetree, cloud, truth)) {
       md << "`artificial_cloud.asc` (" << cloud.size() << " points) against its generating skeleton `artificial_model.csv` ("
          << truth.node_count() << " nodes), Y up, normalised like the synthetic set.\n\n"
          << "| configuration | SPD | BPC | EPC | BP precision | EP precision | reverse SPD |\n|---|---:|---:|---:|---:|---:|---:|\n";

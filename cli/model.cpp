@@ -214,6 +214,9 @@ Command add_model(CLI::App& app) {
   auto& w = s->sweep;
   c->add_option("--exponent", r.exponent, "Leonardo exponent e: r_parent^e = sum of r_child^e at forks (2: pipe model)")
       ->default_val(r.exponent)->check(CLI::Range(1.0, 4.0))->group(g);
+  c->add_option("--tip-weight", r.tip_weight,
+                "Pipe model: what a tip carries, in median twig lengths (large: all twigs equally thick)")
+      ->default_val(r.tip_weight)->check(CLI::PositiveNumber)->group(g);
   c->add_option("--fit-points", r.min_points, "Fewest points of a node for its radius to be measured by a circle fit")
       ->default_val(r.min_points)->check(CLI::Range(3, 100000))->group(g);
   c->add_option("--segments", w.trunk_segments, "Polygon sides around the trunk; thinner branches get fewer")

@@ -171,6 +171,7 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
     throw OptionError("the Leonardo exponent must be between 1 and 4");
   if (options.start_share <= 0.0 || options.start_share > 1.0) throw OptionError("the start share must be in (0, 1]");
   if (options.smoothing < 0) throw OptionError("the smoothing window must not be negative");
+  if (!(options.tip_weight > 0.0)) throw OptionError("the tip weight must be positive");
   const ChainTree t = build_chains(skeleton);
   auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
@@ -197,15 +198,16 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
       if (g[v].radius > 0.0 && std::isfinite(g[v].radius) && boost::degree(v, g) <= 2) measured[v] = {g[v].radius, 0.5};
   }
 
-  // Branch length each node carries (pipe model: cross section proportional to it). A tip carries
-  // a quarter of the median twig length, so that twigs taper but do not vanish.
+  // What each node carries (pipe model: cross section proportional to it): the branch length above
+  // it plus, for every tip, `tip_weight` median twig lengths. A large tip weight approaches the
+  // classic pipe model (one unit pipe per tip); the length term lets twigs taper.
   std::vector<double> leaf_lengths;
   for (const auto& c : t.chains)
     if (t.children[c.nodes.back()].empty()) leaf_lengths.push_back(chain_length(skeleton, c));
   double tip = 0.0;
   if (!leaf_lengths.empty()) {
     std::nth_element(leaf_lengths.begin(), leaf_lengths.begin() + leaf_lengths.size() / 2, leaf_lengths.end());
-    tip = 0.25 * leaf_lengths[leaf_lengths.size() / 2];
+    tip = options.tip_weight * leaf_lengths[leaf_lengths.size() / 2];
   }
   if (!(tip > 0.0)) tip = 1e-9;
   std::vector<double> carried(n, tip);

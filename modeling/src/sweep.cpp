@@ -221,7 +221,7 @@ class Builder {
         } else if (arm.kind == Arm::inner) {
           if (!compact_merge(uf, chain.nodes.front(), chain.nodes.back()) && shrinkable_[chain.nodes[1]]) {
             attempt.shrink.push_back(chain.nodes[1]);  // thin the upper branch rather than bulge a hull
-            return attempt;
+            continue;
           }
           if (uf.unite(chain.nodes.front(), chain.nodes.back())) ++attempt.merged_forks;
           dirty.push_back(chain.nodes.front());
@@ -232,6 +232,7 @@ class Builder {
         }
         changed = true;
       }
+      if (!attempt.shrink.empty()) return attempt;
       // Merges change representatives: find the settled joins again, less the ones that grew.
       std::set<std::size_t> still;
       for (std::size_t id : settled) still.insert(uf.find(id));
@@ -261,7 +262,7 @@ class Builder {
         if (s1 - s0 > 0.05 * pl.length() && compatible(first, last, eps_)) continue;
         if (ja && jb && !compact_merge(uf, a, b) && shrinkable_[chain.nodes[1]]) {
           attempt.shrink.push_back(chain.nodes[1]);  // thin the upper branch rather than bulge a hull
-          return attempt;
+          continue;
         }
         if (ja && jb) {  // two forks too close for a branch between them: one join
           settled.erase(uf.find(a));
@@ -278,6 +279,7 @@ class Builder {
         }
         all = false;
       }
+      if (!attempt.shrink.empty()) return attempt;
       if (!all) {
         std::set<std::size_t> still;
         for (std::size_t id : settled) still.insert(uf.find(id));
@@ -439,12 +441,16 @@ class Builder {
   bool compact_merge(UnionFind& uf, NodeId a, NodeId b) {
     const std::size_t ra = uf.find(a), rb = uf.find(b);
     std::vector<NodeId> forks;
+    const auto ca = clusters_.find(ra), cb = clusters_.find(rb);
+    if (ca != clusters_.end() && cb != clusters_.end()) {  // as the round found them
+      forks = ca->second.nodes;
+      forks.insert(forks.end(), cb->second.nodes.begin(), cb->second.nodes.end());
+    } else {
+      for (NodeId v = 0; v < is_junction_.size(); ++v)
+        if (is_junction_[v] && (uf.find(v) == ra || uf.find(v) == rb)) forks.push_back(v);
+    }
     double r_max = 0.0;
-    for (NodeId v = 0; v < is_junction_.size(); ++v)
-      if (is_junction_[v] && (uf.find(v) == ra || uf.find(v) == rb)) {
-        forks.push_back(v);
-        r_max = std::max(r_max, sk_[v].radius);
-      }
+    for (NodeId v : forks) r_max = std::max(r_max, sk_[v].radius);
     for (std::size_t i = 0; i < forks.size(); ++i)
       for (std::size_t j = i + 1; j < forks.size(); ++j)
         if ((sk_[forks[i]].position - sk_[forks[j]].position).norm() > o_.join_reach * r_max) return false;
@@ -813,6 +819,7 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
       const bool limb = g[o].radius >= options.max_drop_radius * max_radius;
       shrinkable[v] = o != skeleton.root && (shrinks[o] < options.max_shrinks || !limb);
     }
+    ++st.attempts;
     Builder builder(pruned, options, std::move(shrinkable));
     Attempt a = builder.run();
     st.branches = a.branches;

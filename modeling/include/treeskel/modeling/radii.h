@@ -27,6 +27,10 @@ struct RadiusOptions {
   double max_residual = 0.3;
   /// ... and its points cover at least this angle around the axis (radians).
   double min_coverage = 1.5;
+  /// What a tip carries in the pipe model, in median twig lengths (the rest is branch length). Large
+  /// values give every twig the same cross section (one pipe per tip); small ones make twigs taper
+  /// to nothing. Chosen on the synthetic trees and pypetree (bench_radii).
+  double tip_weight = 6.0;
   /// Share of a chain (from its start) whose reliable measurements set the chain's thickness.
   double start_share = 0.34;
   /// Nodes on each side of a node averaged when the taper along a chain is smoothed.
