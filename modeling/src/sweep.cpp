@@ -642,6 +642,7 @@ class Builder {
       attempt.shrink.push_back(top);
       return;
     }
+    std::vector<std::array<std::size_t, 3>> triangles;
     for (auto f : hull.faces()) {
       std::array<std::pair<std::size_t, std::size_t>, 3> corner;
       int k = 0;
@@ -651,8 +652,13 @@ class Builder {
         corner[static_cast<std::size_t>(k++)] = index.at({p.x(), p.y(), p.z()});
       }
       if (corner[0].first == corner[1].first && corner[1].first == corner[2].first) continue;  // a ring's own face
-      add_face(corner[0].second, corner[1].second, corner[2].second, top, radius);
+      // Smallest vertex first, orientation kept: the hull's own face order is not reproducible.
+      std::array<std::size_t, 3> tri{corner[0].second, corner[1].second, corner[2].second};
+      std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
+      triangles.push_back(tri);
     }
+    std::sort(triangles.begin(), triangles.end());
+    for (const auto& tri : triangles) add_face(tri[0], tri[1], tri[2], top, radius);
   }
 
   const Skeleton& sk_;

@@ -139,3 +139,25 @@ TEST(SweepMesh, RefusesBadSkeletons) {
 
 }  // namespace
 }  // namespace treeskel::modeling
+
+namespace treeskel::modeling {
+namespace {
+
+TEST(SweepMesh, SameSkeletonSameMesh) {
+  const PointCloud cloud = io::read_point_cloud(test::data_file("tree_adtree1.xyz"));
+  Skeleton s = extract_skeleton(cloud);
+  fit_radii(s, &cloud);
+  const TreeMesh a = sweep_mesh(s), b = sweep_mesh(s);
+  ASSERT_EQ(a.n_vertices(), b.n_vertices());
+  ASSERT_EQ(a.n_faces(), b.n_faces());
+  for (auto v : a.vertices()) ASSERT_EQ(a.point(v), b.point(v)) << v.idx();
+  for (auto f : a.faces()) {
+    std::vector<int> fa, fb;
+    for (auto v : a.fv_range(f)) fa.push_back(v.idx());
+    for (auto v : b.fv_range(b.face_handle(static_cast<unsigned>(f.idx())))) fb.push_back(v.idx());
+    ASSERT_EQ(fa, fb) << f.idx();
+  }
+}
+
+}  // namespace
+}  // namespace treeskel::modeling
