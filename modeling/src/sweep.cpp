@@ -75,6 +75,20 @@ Polyline make_polyline(const std::vector<Vector3d>& points, const std::vector<do
     pl.p.push_back(points[i]);
     pl.r.push_back(radii[i]);
   }
+  // A polyline that doubles back on itself would give a tube through itself at any radius: points
+  // where it turns by more than 120 degrees are dropped (never the ends).
+  for (bool changed = true; changed && pl.p.size() > 2;) {
+    changed = false;
+    for (std::size_t i = 1; i + 1 < pl.p.size(); ++i) {
+      const Vector3d in = pl.p[i] - pl.p[i - 1], out = pl.p[i + 1] - pl.p[i];
+      if (in.dot(out) < -0.5 * in.norm() * out.norm()) {
+        pl.p.erase(pl.p.begin() + static_cast<std::ptrdiff_t>(i));
+        pl.r.erase(pl.r.begin() + static_cast<std::ptrdiff_t>(i));
+        changed = true;
+        break;
+      }
+    }
+  }
   const std::size_t n = pl.p.size();
   pl.s.assign(n, 0.0);
   for (std::size_t i = 1; i < n; ++i) pl.s[i] = pl.s[i - 1] + (pl.p[i] - pl.p[i - 1]).norm();
