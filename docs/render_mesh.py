@@ -56,20 +56,20 @@ def main():
     colours = np.clip(shade[:, None] * bark[None, :], 0.0, 1.0)
 
     extent = v.max(axis=0)
-    fig = plt.figure(figsize=(6, 8), dpi=110)
+    fig = plt.figure(figsize=(5, 7), dpi=120)
     ax = fig.add_subplot(111, projection="3d", proj_type="ortho")
     ax.add_collection3d(Poly3DCollection(tri, facecolors=colours, edgecolors="none", linewidths=0))
-    half = extent.max() / 2.0
+    half = max(extent[0], extent[1]) / 2.0
     centre = extent / 2.0
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[1] - half, centre[1] + half)
-    ax.set_zlim(0.0, 2.0 * half)
-    ax.set_box_aspect((1, 1, 1))
+    ax.set_zlim(0.0, extent[2])
+    ax.set_box_aspect((2 * half, 2 * half, extent[2]))
     ax.view_init(elev=args.elevation, azim=args.azimuth)
     ax.set_axis_off()
     if args.title:
         ax.set_title(args.title)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0, right=1, bottom=0, top=0.95 if args.title else 1)
     fig.savefig(args.out)
 
 
