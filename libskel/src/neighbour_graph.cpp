@@ -1,5 +1,6 @@
 #include "treeskel/neighbour_graph.h"
 
+#include "treeskel/disjoint_sets.h"
 #include "treeskel/error.h"
 
 #include <CGAL/Kd_tree.h>
@@ -44,25 +45,7 @@ struct MedianIndex {
   PointMap map() const { return PointMap(const_cast<Point*>(points.data())); }
 };
 
-class DisjointSets {
-public:
-  explicit DisjointSets(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0u); }
-  std::uint32_t find(std::uint32_t v) {
-    while (parent_[v] != v) v = parent_[v] = parent_[parent_[v]];
-    return v;
-  }
-  bool unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return false;
-    if (b < a) std::swap(a, b);
-    parent_[b] = a;
-    return true;
-  }
-
-private:
-  std::vector<std::uint32_t> parent_;
-};
+using CellSets = DisjointSets<std::uint32_t>;
 
 using Adjacency = std::vector<std::vector<std::uint32_t>>;
 
@@ -110,7 +93,7 @@ Adjacency knn_adjacency(const OctreeCells& cells, int k) {
 }
 
 std::vector<std::uint32_t> components_of(const Adjacency& adj) {
-  DisjointSets sets(adj.size());
+  CellSets sets(adj.size());
   for (std::size_t c = 0; c < adj.size(); ++c)
     for (auto o : adj[c]) sets.unite(static_cast<std::uint32_t>(c), o);
   std::vector<std::uint32_t> label(adj.size());
@@ -171,7 +154,7 @@ std::size_t bridge_parts(const OctreeCells& cells, Adjacency& adj, double near, 
   for (const auto& f : found)
     if (std::get<0>(f) >= 0.0) links.push_back(f);
   std::sort(links.begin(), links.end());
-  DisjointSets parts(adj.size());
+  CellSets parts(adj.size());
   std::size_t added = 0;
   for (const auto& [d, a, b] : links) {
     if (!parts.unite(label[a], label[b])) continue;
@@ -209,7 +192,7 @@ CellGraph build_neighbour_graph(const OctreeCells& cells, const NeighbourGraphOp
 
 std::vector<std::uint32_t> connected_components(const CellGraph& graph, std::uint32_t* count) {
   const std::size_t n = graph.vertex_count();
-  DisjointSets sets(n);
+  CellSets sets(n);
   for (std::size_t c = 0; c < n; ++c)
     for (auto e = graph.offsets[c]; e < graph.offsets[c + 1]; ++e) sets.unite(static_cast<std::uint32_t>(c), graph.targets[e]);
   std::vector<std::uint32_t> id(n), renumber(n, UINT32_MAX);

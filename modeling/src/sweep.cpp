@@ -1,5 +1,6 @@
 #include "treeskel/modeling/sweep.h"
 
+#include "treeskel/disjoint_sets.h"
 #include "treeskel/error.h"
 #include "treeskel/geometry.h"
 #include "treeskel/modeling/chains.h"
@@ -144,21 +145,7 @@ bool compatible(const Ring& a, const Ring& b, double margin) {
   return -reach_beyond(a, -a.normal, b) > margin && reach_beyond(b, b.normal, a) < -margin;
 }
 
-struct UnionFind {
-  std::vector<std::size_t> up;
-  explicit UnionFind(std::size_t n) : up(n) { std::iota(up.begin(), up.end(), 0); }
-  std::size_t find(std::size_t x) {
-    while (up[x] != x) x = up[x] = up[up[x]];
-    return x;
-  }
-  bool unite(std::size_t a, std::size_t b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return false;
-    up[b] = a;
-    return true;
-  }
-};
+using UnionFind = DisjointSets<std::size_t>;
 
 /// Outcome of one attempt to build the mesh of a (pruned, scaled) skeleton.
 struct Attempt {
