@@ -461,7 +461,6 @@ class Builder {
   NodeId chain_top(std::size_t c) const { return t_.chains[c].nodes[1]; }
 
   void build(UnionFind& uf, Attempt& attempt) {
-    const auto& g = sk_.graph;
     std::vector<Vector3d> vertices;
     std::vector<std::array<std::size_t, 3>> faces;
     auto add_face = [&](std::size_t a, std::size_t b, std::size_t c, NodeId owner, double radius) {
@@ -615,7 +614,6 @@ class Builder {
         isolated = true;
       }
     if (isolated) mesh.garbage_collection();
-    (void)g;
     attempt.mesh = std::move(mesh);
   }
 
