@@ -179,7 +179,10 @@ int run(Settings& s) {
     std::cout << fs::path(s.input).filename().string() << ": ";
     if (cloud) std::cout << cloud->size() << " points, ";
     std::cout << skeleton.node_count() << " nodes, " << check.faces << " triangles ("
-              << (check.ok() ? "closed, manifold, no self-intersection" : check.problem()) << "), height "
+              << (!check.ok()              ? check.problem()
+                  : s.sweep.repair         ? std::string("closed, manifold, no self-intersection")
+                                           : std::string("closed, manifold; self-intersections not checked"))
+              << "), height "
               << measurements.height << ", DBH ";
     if (measurements.dbh) std::cout << *measurements.dbh;
     else std::cout << "n/a (shorter than " << s.breast_height << ")";
