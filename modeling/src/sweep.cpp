@@ -797,11 +797,22 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
   if (!keep[tree.chains.front().nodes[1]] && tree.children[skeleton.root].size() == 1)
     throw InputError("every branch is thinner than the minimum radius; nothing is left to mesh");
 
+  // The sweep needs positions, radii and edges only: each attempt copies this, not the point lists.
+  Skeleton shape;
+  shape.root = skeleton.root;
+  for (NodeId v = 0; v < n; ++v) {
+    SkeletonNode node;
+    node.position = g[v].position;
+    node.radius = g[v].radius;
+    add_node(shape, node);
+  }
+  for (auto [it, end] = boost::edges(g); it != end; ++it) boost::add_edge(boost::source(*it, g), boost::target(*it, g), shape.graph);
+
   const int max_attempts = 4 * static_cast<int>(n) + 50;
   std::optional<TreeMesh> best;
   for (int attempt_no = 0; attempt_no < max_attempts; ++attempt_no) {
     // The kept, scaled skeleton.
-    Skeleton pruned = skeleton;
+    Skeleton pruned = shape;
     for (NodeId v = 0; v < n; ++v) pruned[v].radius *= scale[v];
     const auto new_id = compact_nodes(pruned, keep);
     std::vector<NodeId> old_id(boost::num_vertices(pruned.graph));
