@@ -20,7 +20,7 @@ for f in "$@"; do
       const dbh = j.measurements.dbh === null ? "n/a" : j.measurements.dbh.toFixed(3);
       console.log(`| ${process.argv[2]} | ${j.points} | ${m.triangles} | ${m.closed ? "yes" : "NO"} | ${m.manifold ? "yes" : "NO"} | ` +
         `${m.self_intersections} | ${m.components} | ${m.volume.toPrecision(3)} | ${m.twigs_absorbed} | ` +
-        `${m.repaired_shrunk} / ${m.repaired_dropped} | ${dbh} | ${j.seconds.total.toFixed(2)} |`);' "$dir/r.json" "$name"
+        `${m.joins_thinned + m.repaired_shrunk} / ${m.joins_dropped + m.repaired_dropped} | ${dbh} | ${j.seconds.total.toFixed(2)} |`);' "$dir/r.json" "$name"
   else
     echo "| $name | | | | | | | | | | | $(tr '\n|' '  ' <"$dir/err") |"
   fi

@@ -94,7 +94,8 @@ int main(int argc, char** argv) {
   std::printf("| %zu | %.3f s | %.3f s | %.3f s | %zu | %s |\n\n", skeleton.node_count(), radii, sweep, sweep_no_repair,
               check.faces, check.ok() && stats.self_intersections == 0 ? "yes" : check.problem().c_str());
   std::printf("(built %d times: %d repair rounds; %zu branches thinned, %zu left out, %zu twigs inside joins)\n\n",
-              stats.attempts, stats.repair_rounds, stats.repaired_shrunk, stats.repaired_dropped, stats.twigs_absorbed);
+              stats.attempts, stats.repair_rounds, stats.joins_thinned + stats.repaired_shrunk,
+              stats.joins_dropped + stats.repaired_dropped, stats.twigs_absorbed);
 
   if (files.empty()) return 0;
   std::printf("| file | points | read | skeleton | radii | mesh | measure + GLB | total | triangles |\n");

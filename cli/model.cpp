@@ -165,6 +165,8 @@ int run(Settings& s) {
                {"thin_left_out", sweep_stats.thin_left_out},
                {"relocated_branches", sweep_stats.relocated_branches},
                {"twigs_absorbed", sweep_stats.twigs_absorbed},
+               {"joins_thinned", sweep_stats.joins_thinned},
+               {"joins_dropped", sweep_stats.joins_dropped},
                {"repaired_shrunk", sweep_stats.repaired_shrunk},
                {"repaired_dropped", sweep_stats.repaired_dropped}};
   j["seconds"] = {{"skeleton", skeleton_seconds}, {"total", seconds}};

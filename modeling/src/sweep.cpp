@@ -150,6 +150,8 @@ using UnionFind = DisjointSets<std::size_t>;
 /// Outcome of one attempt to build the mesh of a (pruned, scaled) skeleton.
 struct Attempt {
   std::size_t absorbed = 0;    // twigs too short to leave their join's hull, left inside it
+  std::size_t thinned = 0;     // branches thinned so that the joins at both their ends fit
+  std::size_t dropped = 0;     // ... and left out when thinning did not do
   std::vector<NodeId> shrink;  // subtrees (by their top node) to thin, then try again
   std::optional<TreeMesh> mesh;
   std::vector<NodeId> face_owner;  // per face: top node of the branch or join that made it
@@ -196,6 +198,8 @@ class Builder {
     Attempt attempt;
     UnionFind uf(n);
     absorbed_.assign(t_.chains.size(), false);
+    thinned_.assign(t_.chains.size(), 0);
+    max_radius_ = max_radius;
     ring_d_.assign(t_.chains.size(), {0.0, 0.0});
     ring_neck_.assign(t_.chains.size(), {1.0, 1.0});
     std::set<std::size_t> settled;  // joins (by representative) whose rings fit as they are
@@ -203,7 +207,8 @@ class Builder {
       if (round > static_cast<int>(n) + 10) throw Error("internal: the fork joins did not settle");
       clusters_.clear();
       for (NodeId v = 0; v < n; ++v)
-        if (is_junction_[v]) clusters_[uf.find(v)].nodes.push_back(v);
+        if (is_junction_[v] && !(t_.chain_of[v] >= 0 && absorbed_[static_cast<std::size_t>(t_.chain_of[v])]))
+          clusters_[uf.find(v)].nodes.push_back(v);
       collect_arms(uf);
       bool changed = false;
       std::vector<std::size_t> dirty;
@@ -220,8 +225,8 @@ class Builder {
           absorbed_[arm.chain] = true;
           ++attempt.absorbed;
         } else if (arm.kind == Arm::inner) {
-          if (!compact_merge(uf, chain.nodes.front(), chain.nodes.back()) && shrinkable_[chain.nodes[1]]) {
-            attempt.shrink.push_back(chain.nodes[1]);  // thin the upper branch rather than bulge a hull
+          if (!compact_merge(uf, chain.nodes.front(), chain.nodes.back()) && thin_or_drop(arm.chain, attempt, dirty)) {
+            changed = true;  // the upper branch was thinned or left out rather than bulge a hull
             continue;
           }
           if (uf.unite(chain.nodes.front(), chain.nodes.back())) ++attempt.merged_forks;
@@ -261,9 +266,13 @@ class Builder {
         first.radius *= ja ? ring_neck_[c][0] : 1.0;
         last.radius *= jb ? ring_neck_[c][1] : 1.0;
         if (s1 - s0 > 0.05 * pl.length() && compatible(first, last, eps_)) continue;
-        if (ja && jb && !compact_merge(uf, a, b) && shrinkable_[chain.nodes[1]]) {
-          attempt.shrink.push_back(chain.nodes[1]);  // thin the upper branch rather than bulge a hull
-          continue;
+        if (ja && jb && !compact_merge(uf, a, b)) {
+          std::vector<std::size_t> touched;
+          if (thin_or_drop(c, attempt, touched)) {  // the upper branch was thinned or left out
+            for (std::size_t v : touched) settled.erase(uf.find(v));
+            all = false;
+            continue;
+          }
         }
         if (ja && jb) {  // two forks too close for a branch between them: one join
           settled.erase(uf.find(a));
@@ -460,6 +469,36 @@ class Builder {
 
   NodeId chain_top(std::size_t c) const { return t_.chains[c].nodes[1]; }
 
+  /// Chain `c` and every chain it carries.
+  std::vector<std::size_t> carried_chains(std::size_t c) const {
+    std::vector<std::size_t> chains{c};
+    for (std::size_t i = 0; i < chains.size(); ++i)
+      for (std::size_t child : t_.chains[chains[i]].children) chains.push_back(child);
+    return chains;
+  }
+
+  /// The joins at both ends of chain `c` cannot both fit: thins it and all it carries (x
+  /// repair_shrink), up to max_shrinks times; after that a thin branch is left out with all it
+  /// carries. Appends the forks whose joins must be placed again to `touched`. False for a limb
+  /// thinned as far as it may be (its forks are then merged).
+  bool thin_or_drop(std::size_t c, Attempt& attempt, std::vector<std::size_t>& touched) {
+    const auto chains = carried_chains(c);
+    const bool limb = lines_[c].r.front() >= o_.max_drop_radius * max_radius_;
+    if (thinned_[c] < o_.max_shrinks) {
+      ++thinned_[c];
+      ++attempt.thinned;
+      for (std::size_t d : chains)
+        for (double& r : lines_[d].r) r *= o_.repair_shrink;
+    } else if (!limb && t_.chains[c].nodes.front() != sk_.root) {
+      ++attempt.dropped;
+      for (std::size_t d : chains) absorbed_[d] = true;
+    } else {
+      return false;
+    }
+    for (std::size_t d : chains) touched.insert(touched.end(), {t_.chains[d].nodes.front(), t_.chains[d].nodes.back()});
+    return true;
+  }
+
   void build(UnionFind& uf, Attempt& attempt) {
     std::vector<Vector3d> vertices;
     std::vector<std::array<std::size_t, 3>> faces;
@@ -481,6 +520,7 @@ class Builder {
     };
     std::map<std::pair<std::size_t, bool>, JoinRing> join_ring;
     for (auto& [id, cl] : clusters_) {
+      if (cl.arms.empty()) continue;  // a fork inside a branch that was left out
       ++attempt.junctions;
       NodeId top = cl.nodes.front();
       double radius = 0.0;
@@ -668,6 +708,8 @@ class Builder {
   std::vector<int> sides_;
   std::vector<bool> is_junction_;
   std::vector<bool> shrinkable_;
+  std::vector<int> thinned_;  // per chain: times thinned in this build
+  double max_radius_ = 0.0;
   std::vector<bool> absorbed_;  // per chain: a twig left inside its join's hull
   std::vector<std::array<double, 2>> ring_neck_;  // per chain: neck factor of those rings
   std::vector<std::array<double, 2>> ring_d_;  // per chain: ring distance from its start's join, its end's join
@@ -842,6 +884,8 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
     st.junctions = a.junctions;
     st.merged_forks = a.merged_forks;
     st.twigs_absorbed = a.absorbed;
+    st.joins_thinned = a.thinned;
+    st.joins_dropped = a.dropped;
     auto shrink_or_drop = [&](NodeId top) {
       if (shrinks[top] < options.max_shrinks) {
         for (NodeId v : subtree(tree.children, top)) scale[v] *= options.repair_shrink;

@@ -51,6 +51,8 @@ struct SweepStats {
   std::size_t thin_left_out = 0;     ///< branches under `min_radius`, left out
   std::size_t relocated_branches = 0;  ///< narrow-angle branches re-attached where they emerge
   std::size_t twigs_absorbed = 0;    ///< twigs too short to leave their fork's hull, left out
+  std::size_t joins_thinned = 0;     ///< branches thinned so that the joins at both their ends fit
+  std::size_t joins_dropped = 0;     ///< thin branches left out when thinning did not make them fit
   std::size_t repaired_shrunk = 0;   ///< branches thinned to clear an intersection
   std::size_t repaired_dropped = 0;  ///< branches left out to clear an intersection
   int repair_rounds = 0;
