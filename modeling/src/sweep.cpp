@@ -161,9 +161,7 @@ struct Attempt {
 
 class Builder {
  public:
-  /// `shrinkable[v]`: the repair may still thin the subtree of node v.
-  Builder(const Skeleton& sk, const SweepOptions& o, std::vector<bool> shrinkable)
-      : sk_(sk), o_(o), t_(build_chains(sk)), shrinkable_(std::move(shrinkable)) {}
+  Builder(const Skeleton& sk, const SweepOptions& o) : sk_(sk), o_(o), t_(build_chains(sk)) {}
 
   Attempt run() {
     const auto& g = sk_.graph;
@@ -707,7 +705,6 @@ class Builder {
   std::vector<Polyline> lines_;
   std::vector<int> sides_;
   std::vector<bool> is_junction_;
-  std::vector<bool> shrinkable_;
   std::vector<int> thinned_;  // per chain: times thinned in this build
   double max_radius_ = 0.0;
   std::vector<bool> absorbed_;  // per chain: a twig left inside its join's hull
@@ -871,14 +868,7 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
       st.relocated_branches = moved;
     }
 
-    std::vector<bool> shrinkable(old_id.size());
-    for (std::size_t v = 0; v < old_id.size(); ++v) {
-      const NodeId o = old_id[v];
-      const bool limb = g[o].radius >= options.max_drop_radius * max_radius;
-      shrinkable[v] = o != skeleton.root && (shrinks[o] < options.max_shrinks || !limb);
-    }
-    ++st.attempts;
-    Builder builder(pruned, options, std::move(shrinkable));
+    Builder builder(pruned, options);
     Attempt a = builder.run();
     st.branches = a.branches;
     st.junctions = a.junctions;
