@@ -18,10 +18,6 @@
 #include <numeric>
 #include <optional>
 #include <set>
-#include <cstdio>
-#include <cstdlib>
-#include <cstdio>
-#include <cstdlib>
 
 namespace treeskel::modeling {
 
@@ -166,12 +162,12 @@ class Builder {
   Attempt run() {
     const auto& g = sk_.graph;
     const std::size_t n = boost::num_vertices(g);
-    double max_radius = 0.0, extent = 0.0;
+    double extent = 0.0;
     for (NodeId v = 0; v < n; ++v) {
-      max_radius = std::max(max_radius, g[v].radius);
+      max_radius_ = std::max(max_radius_, g[v].radius);
       extent = std::max(extent, g[v].position.cwiseAbs().maxCoeff());
     }
-    eps_ = 1e-9 * std::max({max_radius, extent, 1e-300});
+    eps_ = 1e-9 * std::max({max_radius_, extent, 1e-300});
     // Polylines; a chain leaving a fork starts with the radius of its own first node.
     const bool root_fork = t_.children[sk_.root].size() >= 2;
     for (const auto& c : t_.chains) {
@@ -184,7 +180,7 @@ class Builder {
       if (c.nodes.front() != sk_.root || root_fork) radii[0] = radii[1];
       lines_.push_back(make_polyline(pts, radii, eps_));
       const double r0 = radii[0];
-      sides_.push_back(std::clamp(static_cast<int>(std::lround(o_.trunk_segments * r0 / max_radius)), o_.min_segments,
+      sides_.push_back(std::clamp(static_cast<int>(std::lround(o_.trunk_segments * r0 / max_radius_)), o_.min_segments,
                                   o_.max_segments));
     }
     // Junction nodes: forks, and the root when it has several children.
@@ -197,10 +193,16 @@ class Builder {
     UnionFind uf(n);
     absorbed_.assign(t_.chains.size(), false);
     thinned_.assign(t_.chains.size(), 0);
-    max_radius_ = max_radius;
     ring_d_.assign(t_.chains.size(), {0.0, 0.0});
     ring_neck_.assign(t_.chains.size(), {1.0, 1.0});
     std::set<std::size_t> settled;  // joins (by representative) whose rings fit as they are
+    // Merges change representatives: finds the settled joins again, less those holding a dirty fork.
+    auto refresh = [&uf](std::set<std::size_t>& joins, const std::vector<std::size_t>& dirty) {
+      std::set<std::size_t> still;
+      for (std::size_t id : joins) still.insert(uf.find(id));
+      for (std::size_t v : dirty) still.erase(uf.find(v));
+      joins = std::move(still);
+    };
     for (int round = 0;; ++round) {
       if (round > static_cast<int>(n) + 10) throw Error("internal: the fork joins did not settle");
       clusters_.clear();
@@ -236,12 +238,7 @@ class Builder {
         }
         changed = true;
       }
-      if (!attempt.shrink.empty()) return attempt;
-      // Merges change representatives: find the settled joins again, less the ones that grew.
-      std::set<std::size_t> still;
-      for (std::size_t id : settled) still.insert(uf.find(id));
-      for (std::size_t v : dirty) still.erase(uf.find(v));
-      settled = std::move(still);
+      refresh(settled, dirty);
       if (changed) continue;
       // Settled joins were skipped above, and their arms were collected afresh: place their rings.
       bool all = true;
@@ -287,13 +284,8 @@ class Builder {
         }
         all = false;
       }
-      if (!attempt.shrink.empty()) return attempt;
-      if (!all) {
-        std::set<std::size_t> still;
-        for (std::size_t id : settled) still.insert(uf.find(id));
-        settled = std::move(still);
-      }
       if (all) break;
+      refresh(settled, {});
     }
     build(uf, attempt);
     return attempt;
@@ -330,8 +322,7 @@ class Builder {
         arm.chain = c;
         arm.forward = forward;
         if (there >= 0) {
-          arm.kind = Arm::inner;
-          arm.available = 0.45 * length;
+          arm.kind = Arm::inner;  // its room is set by solve(), from what the other join leaves
         } else if (forward) {
           arm.kind = Arm::leaf;
           arm.available = 0.7 * length;
@@ -868,6 +859,7 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
       st.relocated_branches = moved;
     }
 
+    ++st.attempts;
     Builder builder(pruned, options);
     Attempt a = builder.run();
     st.branches = a.branches;
@@ -876,22 +868,18 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
     st.twigs_absorbed = a.absorbed;
     st.joins_thinned = a.thinned;
     st.joins_dropped = a.dropped;
+    // Thins a subtree, up to max_shrinks times (twice that for a limb other than the root), then
+    // leaves a thin one out; false when it may be neither.
     auto shrink_or_drop = [&](NodeId top) {
-      if (shrinks[top] < options.max_shrinks) {
-        for (NodeId v : subtree(tree.children, top)) scale[v] *= options.repair_shrink;
-        ++shrinks[top];
-        ++st.repaired_shrunk;
-        return true;
-      }
-      // Only thin branches are given up; a limb is thinned further instead.
       const bool limb = g[top].radius >= options.max_drop_radius * max_radius;
-      if (top == skeleton.root || (limb && shrinks[top] >= 2 * options.max_shrinks)) return false;
-      if (limb) {
+      const int budget = (limb && top != skeleton.root ? 2 : 1) * options.max_shrinks;
+      if (shrinks[top] < budget) {
         for (NodeId v : subtree(tree.children, top)) scale[v] *= options.repair_shrink;
         ++shrinks[top];
         ++st.repaired_shrunk;
         return true;
       }
+      if (top == skeleton.root || limb) return false;
       drop(top);
       ++st.repaired_dropped;
       return true;

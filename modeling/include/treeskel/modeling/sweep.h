@@ -56,7 +56,7 @@ struct SweepStats {
   std::size_t repaired_shrunk = 0;   ///< branches thinned to clear an intersection
   std::size_t repaired_dropped = 0;  ///< branches left out to clear an intersection
   int repair_rounds = 0;
-  int attempts = 0;                  ///< times the mesh was built (each repair or thinning builds it again)
+  int attempts = 0;                  ///< times the mesh was built (each repair round builds it again)
   std::size_t self_intersections = 0;  ///< face pairs still intersecting after the repair
 };
 
