@@ -100,8 +100,8 @@ double weighted_median(std::vector<std::pair<double, double>> value_weight) {
   return value_weight.back().first;
 }
 
-/// Weighted least-squares non-increasing fit (pool adjacent violators). Entries of weight 0 take the
-/// value of the block they fall in.
+/// Weighted least-squares non-increasing fit (pool adjacent violators).
+/// @pre every weight is positive.
 std::vector<double> non_increasing_fit(const std::vector<double>& y, const std::vector<double>& w) {
   struct Block {
     double value, weight;
@@ -110,20 +110,12 @@ std::vector<double> non_increasing_fit(const std::vector<double>& y, const std::
   std::vector<Block> blocks;
   for (std::size_t i = 0; i < y.size(); ++i) {
     blocks.push_back({y[i], w[i], 1});
-    while (blocks.size() >= 2) {
-      Block& last = blocks.back();
-      Block& prev = blocks[blocks.size() - 2];
-      // A weightless block merges into its predecessor; a weighted one only when it violates order.
-      if (last.weight > 0.0 && prev.weight > 0.0 && prev.value >= last.value) break;
-      if (last.weight == 0.0 && prev.weight > 0.0) {
-        prev.count += last.count;
-        blocks.pop_back();
-        continue;
-      }
-      const double weight = prev.weight + last.weight;
-      const double value = weight > 0.0 ? (prev.value * prev.weight + last.value * last.weight) / weight : last.value;
-      prev = {value, weight, prev.count + last.count};
+    while (blocks.size() >= 2 && blocks[blocks.size() - 2].value < blocks.back().value) {
+      const Block last = blocks.back();
       blocks.pop_back();
+      Block& prev = blocks.back();
+      const double weight = prev.weight + last.weight;
+      prev = {(prev.value * prev.weight + last.value * last.weight) / weight, weight, prev.count + last.count};
     }
   }
   std::vector<double> out;
