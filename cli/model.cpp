@@ -79,11 +79,7 @@ int run(Settings& s) {
                       "'; use .obj, .gltf, .glb, .ply or .stl");
   if (!s.report.empty() && io::extension_of(s.report) != "json") throw OptionError("--report must name a .json file");
   if (!s.qsm.empty() && io::extension_of(s.qsm) != "csv") throw OptionError("--qsm must name a .csv file");
-  if (!s.skeleton_out.empty()) {
-    const std::string ext = io::extension_of(s.skeleton_out);
-    if (ext != "ply" && ext != "obj" && ext != "json")
-      throw OptionError(s.skeleton_out + ": unknown skeleton extension '." + ext + "'; use .ply, .obj or .json");
-  }
+  if (!s.skeleton_out.empty()) require_skeleton_extension(s.skeleton_out);
 
   Progress progress(s.quiet || s.json);
   progress("reading " + fs::path(s.input).filename().string(), 0.0);

@@ -1,6 +1,8 @@
 #include "skeleton_options.h"
 
 #include "treeskel/error.h"
+#include "treeskel/io/atomic_file.h"
+#include "treeskel/io/skeleton_io.h"
 
 #include <sstream>
 
@@ -89,6 +91,11 @@ SkeletonOptions skeleton_options_for(const SkeletonSettings& s, const PointCloud
   o.use_junctions = !s.no_junctions;
   o.use_smooth = !s.no_smooth;
   return o;
+}
+
+void require_skeleton_extension(const std::string& path) {
+  if (!io::is_skeleton_extension(path))
+    throw OptionError(path + ": unknown skeleton extension '." + io::extension_of(path) + "'; use .ply, .obj or .json");
 }
 
 Skeleton extract_skeleton_of(const std::string& input, const PointCloud& cloud, const SkeletonOptions& options,

@@ -28,6 +28,9 @@ SkeletonOptions skeleton_options_for(const SkeletonSettings& settings, const Poi
 /// Parses "x", "-y", ... or "x,y,z" as a unit direction.
 Eigen::Vector3d parse_up(const std::string& text);
 
+/// @throws OptionError unless `path` has an extension skeletons are written in (.ply .obj .json).
+void require_skeleton_extension(const std::string& path);
+
 /// Extracts the skeleton, naming the input file in the error of a cloud the method refuses.
 Skeleton extract_skeleton_of(const std::string& input, const PointCloud& cloud, const SkeletonOptions& options,
                              SkeletonStats* stats);

@@ -35,9 +35,7 @@ int run(Settings& s) {
   Stopwatch clock;
   if (s.input.empty()) s.input = TREESKEL_DEFAULT_EXAMPLE;
   if (s.output.empty()) s.output = fs::path(s.input).stem().string() + "_skeleton.ply";
-  const std::string out_ext = io::extension_of(s.output);
-  if (out_ext != "ply" && out_ext != "obj" && out_ext != "json")
-    throw OptionError(s.output + ": unknown skeleton extension '." + out_ext + "'; use .ply, .obj or .json");
+  require_skeleton_extension(s.output);
 
   Progress progress(s.quiet || s.json);
   progress("reading " + fs::path(s.input).filename().string(), 0.0);

@@ -177,9 +177,14 @@ std::string skeleton_to_json(const Skeleton& s) {
   return j.dump(1) + "\n";
 }
 
+bool is_skeleton_extension(const std::filesystem::path& path) {
+  const std::string ext = extension_of(path);
+  return ext == "ply" || ext == "obj" || ext == "json";
+}
+
 void write_skeleton(const std::filesystem::path& path, const Skeleton& skeleton) {
   const std::string ext = extension_of(path);
-  if (ext != "ply" && ext != "obj" && ext != "json")
+  if (!is_skeleton_extension(path))
     throw Error(path.string() + ": unknown skeleton extension '." + ext + "'; treeskel writes skeletons as .ply, .obj or .json");
   write_atomically(path, [&](std::ostream& out) {
     if (ext == "ply") write_ply(out, skeleton);

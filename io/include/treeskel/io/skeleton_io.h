@@ -13,6 +13,9 @@
 
 namespace treeskel::io {
 
+/// True if `write_skeleton` knows the extension of `path` (.ply .obj .json).
+bool is_skeleton_extension(const std::filesystem::path& path);
+
 /// Writes the skeleton atomically. @throws Error for an unknown extension or a failed write.
 void write_skeleton(const std::filesystem::path& path, const Skeleton& skeleton);
 
