@@ -10,6 +10,10 @@
 
 namespace treeskel {
 
+double root_slice_for(const RootOptions& options, const OctreeCells& cells) {
+  return options.slice > 0.0 ? options.slice : 2.0 * cells.cell_size;
+}
+
 std::vector<std::uint32_t> select_root_cells(const OctreeCells& cells, const CellGraph& graph,
                                              const std::vector<bool>& in_tree, const RootOptions& options) {
   const std::size_t n = cells.cell_count();
@@ -29,7 +33,7 @@ std::vector<std::uint32_t> select_root_cells(const OctreeCells& cells, const Cel
   TREESKEL_REQUIRE(best >= 0, "no cell is in the tree");
   if (options.point) return {static_cast<std::uint32_t>(best)};
 
-  const double slice = options.slice > 0.0 ? options.slice : 2.0 * cells.cell_size;
+  const double slice = root_slice_for(options, cells);
   const double top = cells.medians[best].dot(up) + slice;
   std::vector<bool> taken(n, false);
   std::vector<std::uint32_t> roots{static_cast<std::uint32_t>(best)};

@@ -167,12 +167,16 @@ std::size_t bridge_parts(const OctreeCells& cells, Adjacency& adj, double near, 
 
 }  // namespace
 
+double bridge_distance_for(const NeighbourGraphOptions& options, const OctreeCells& cells) {
+  return options.bridge_distance == 0.0 ? 4.0 * cells.cell_size : options.bridge_distance;
+}
+
 CellGraph build_neighbour_graph(const OctreeCells& cells, const NeighbourGraphOptions& options) {
   if (options.reach < 1 || options.reach > 3)
     throw OptionError("the octree neighbour reach must be 1, 2 or 3 cells, got " + std::to_string(options.reach));
   Adjacency adj = options.mode == NeighbourMode::knn ? knn_adjacency(cells, options.k) : octree_adjacency(cells, options.reach);
   CellGraph graph;
-  const double bridge = options.bridge_distance == 0.0 ? 4.0 * cells.cell_size : options.bridge_distance;
+  const double bridge = bridge_distance_for(options, cells);
   const double far = options.far_bridge_distance == 0.0 ? 0.1 * cells.cube_size : std::max(options.far_bridge_distance, 0.0);
   const auto min_points = static_cast<std::size_t>(options.far_bridge_fraction * static_cast<double>(cells.point_order.size()));
   if (bridge > 0.0) graph.bridges = bridge_parts(cells, adj, bridge, std::max(far, bridge), std::max<std::size_t>(min_points, 10));

@@ -54,6 +54,18 @@ void check_cloud(const PointCloud& cloud, const SkeletonOptions& options) {
 
 }  // namespace
 
+SkeletonOptions automatic_options(const PointCloud& cloud, const SkeletonOptions& options) {
+  check_cloud(cloud, options);
+  const OctreeCells cells = build_octree_cells(cloud, options.octree);
+  SkeletonOptions o = options;
+  o.octree.depth = cells.depth;
+  o.level_sets.band_width = band_width_for(options.level_sets, cells);
+  o.prune.min_length = prune_length_for(options.prune, o.level_sets.band_width);
+  o.graph.bridge_distance = bridge_distance_for(options.graph, cells);
+  o.root.slice = root_slice_for(options.root, cells);
+  return o;
+}
+
 Skeleton extract_skeleton(const PointCloud& cloud, const SkeletonOptions& options, SkeletonStats* stats_out) {
   check_cloud(cloud, options);
   SkeletonStats stats;

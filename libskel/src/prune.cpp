@@ -6,8 +6,12 @@
 
 namespace treeskel {
 
+double prune_length_for(const PruneOptions& options, double band_width) {
+  return options.min_length > 0.0 ? options.min_length : band_width;
+}
+
 std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const PruneOptions& options) {
-  const double min_length = options.min_length > 0.0 ? options.min_length : band_width;
+  const double min_length = prune_length_for(options, band_width);
   std::size_t removed_total = 0;
   for (;;) {
     auto& g = skeleton.graph;

@@ -125,6 +125,35 @@ TEST_P(RealClouds, UtmShiftedCopyGivesTheSameSkeletonShifted) {
   EXPECT_TRUE(same_skeleton(a, b, 1e-6 * size, shift));
 }
 
+TEST_P(RealClouds, AutomaticOptionsSpellOutTheDefaultsAndGiveTheSameSkeleton) {
+  const PointCloud& c = cloud(GetParam());
+  SkeletonStats stats;
+  const Skeleton by_default = extract_skeleton(c, {}, &stats);
+  const SkeletonOptions o = automatic_options(c);
+  EXPECT_EQ(o.octree.depth, stats.octree_depth);
+  EXPECT_DOUBLE_EQ(o.level_sets.band_width, stats.band_width);
+  EXPECT_DOUBLE_EQ(o.level_sets.band_width, 2.0 * stats.cell_size);
+  EXPECT_DOUBLE_EQ(o.prune.min_length, o.level_sets.band_width);
+  EXPECT_DOUBLE_EQ(o.graph.bridge_distance, 4.0 * stats.cell_size);
+  EXPECT_DOUBLE_EQ(o.root.slice, 2.0 * stats.cell_size);
+  EXPECT_TRUE(same_skeleton(by_default, extract_skeleton(c, o), 0.0));
+  // Values the caller set stay as they are.
+  SkeletonOptions mine;
+  mine.level_sets.band_width = 0.123;
+  mine.graph.bridge_distance = -1.0;
+  const SkeletonOptions kept = automatic_options(c, mine);
+  EXPECT_EQ(kept.level_sets.band_width, 0.123);
+  EXPECT_EQ(kept.prune.min_length, 0.123);
+  EXPECT_EQ(kept.graph.bridge_distance, -1.0);
+}
+
+TEST(Pipeline, AutomaticOptionsRejectWhatExtractionRejects) {
+  PointCloud few;
+  few.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  EXPECT_THROW(automatic_options(few), InputError);
+  EXPECT_THROW(automatic_options(PointCloud{}), InputError);
+}
+
 INSTANTIATE_TEST_SUITE_P(Bundled, RealClouds, ::testing::Values("tree_rtwig.txt", "tree_adtree1.xyz"),
                          [](const auto& info) { return info.param.substr(0, info.param.find('.')); });
 

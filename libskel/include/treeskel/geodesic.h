@@ -29,6 +29,9 @@ struct GeodesicField {
   std::vector<std::int64_t> predecessor;   ///< previous cell on a shortest path; -1 for roots and unreached
 };
 
+/// The root slice thickness `options` give for these cells: `slice`, or 2 cell sizes when it is 0.
+double root_slice_for(const RootOptions& options, const OctreeCells& cells);
+
 /// The cells the geodesic distance starts from: the lowest slice of the tree (the part of it that is
 /// connected to the lowest cell), or the cell nearest to `options.point`.
 /// @pre at least one cell is in the tree.

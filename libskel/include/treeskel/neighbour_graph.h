@@ -48,6 +48,9 @@ struct CellGraph {
 };
 
 /// Builds the neighbour graph on the cells' medians and bridges gaps between its parts.
+/// The bridging distance `options` give for these cells: `bridge_distance`, or 4 cell sizes when it is 0.
+double bridge_distance_for(const NeighbourGraphOptions& options, const OctreeCells& cells);
+
 CellGraph build_neighbour_graph(const OctreeCells& cells, const NeighbourGraphOptions& options = {});
 
 /// Connected components of the graph: a component id per cell, ids numbered from 0 in cell order.

@@ -64,6 +64,13 @@ struct SkeletonStats {
   std::vector<std::pair<std::string, double>> seconds;  ///< wall time per stage
 };
 
+/// `options` with every scale that defaults to a multiple of the octree cell (0) replaced by the value
+/// `extract_skeleton` would use on `cloud`: the octree depth, the band width, the pruning length, the
+/// bridging distance and the root slice. Extracting with the result gives the same skeleton; front
+/// ends show these numbers as the defaults in the cloud's units.
+/// @throws InputError as `extract_skeleton` does for a cloud it cannot use.
+SkeletonOptions automatic_options(const PointCloud& cloud, const SkeletonOptions& options = {});
+
 /// Extracts the curve skeleton of a tree.
 /// @throws InputError when the cloud is empty, too small, all at one place, on one line, or yields no
 ///         skeleton; OptionError for an option out of range.

@@ -21,6 +21,9 @@ struct PruneOptions {
   int host_nodes = 4;  ///< nodes of each neighbouring chain that define the host branch
 };
 
+/// The shortest leaf branch `options` keep: `min_length`, or `band_width` when it is 0.
+double prune_length_for(const PruneOptions& options, double band_width);
+
 /// Removes spurious leaf branches until none is left; where every child of a fork is short, the longest
 /// stays (it is the continuation of the branch). Returns the number of branches removed.
 /// @param[in] band_width  the level sets' band width, which scales the default `min_length`
