@@ -798,7 +798,8 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
 TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, SweepStats* stats) {
   if (options.min_segments < 3 || options.max_segments < options.min_segments || options.trunk_segments < 3)
     throw OptionError("segments around a branch: need 3 <= min <= max and at least 3 around the trunk");
-  if (options.min_radius < 0.0) throw OptionError("the minimum branch radius must not be negative");
+  if (options.min_radius < 0.0 || options.min_relative_radius < 0.0 || options.min_relative_radius >= 1.0)
+    throw OptionError("the minimum branch radius must not be negative (and the relative one below 1)");
   if (!(options.ring_spacing > 0.0) || !(options.max_turn > 0.0)) throw OptionError("ring spacing and turn must be positive");
   if (!(options.repair_shrink > 0.0 && options.repair_shrink < 1.0)) throw OptionError("the repair shrink factor must be in (0, 1)");
   const ChainTree tree = build_chains(skeleton);
@@ -819,8 +820,9 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
   auto drop = [&](NodeId top) {
     for (NodeId v : subtree(tree.children, top)) keep[v] = false;
   };
+  const double thinnest = std::max(options.min_radius, options.min_relative_radius * max_radius);
   for (const auto& c : tree.chains)
-    if (keep[c.nodes[1]] && g[c.nodes[1]].radius < options.min_radius && c.nodes[1] != skeleton.root) {
+    if (keep[c.nodes[1]] && g[c.nodes[1]].radius < thinnest && c.nodes[1] != skeleton.root) {
       drop(c.nodes[1]);
       ++st.thin_left_out;
     }

@@ -17,6 +17,10 @@ struct SweepOptions {
   /// Branches whose radius where they start is below this are left out with everything they carry
   /// (input units; 0 keeps every branch).
   double min_radius = 0.0;
+  /// ... and so are branches thinner than this share of the thickest radius: the pipe model can leave
+  /// a twig a millionth of the trunk, whose rings collapse to points in the 32-bit floats every mesh
+  /// format stores, so the saved mesh would no longer be manifold (0 keeps them).
+  double min_relative_radius = 1e-3;
   /// Along a branch a new ring is laid when the branch has run this many radii since the last one ...
   double ring_spacing = 0.75;
   /// ... or has turned by more than this (radians).
@@ -48,7 +52,7 @@ struct SweepStats {
   std::size_t branches = 0;          ///< chains swept into tubes
   std::size_t junctions = 0;         ///< convex-hull joins (a join may hold several close forks)
   std::size_t merged_forks = 0;      ///< forks joined with a neighbour into one hull
-  std::size_t thin_left_out = 0;     ///< branches under `min_radius`, left out
+  std::size_t thin_left_out = 0;     ///< branches under `min_radius` or `min_relative_radius`, left out
   std::size_t relocated_branches = 0;  ///< narrow-angle branches re-attached where they emerge
   std::size_t twigs_absorbed = 0;    ///< twigs too short to leave their fork's hull, left out
   std::size_t joins_thinned = 0;     ///< branches thinned so that the joins at both their ends fit
