@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Installs what treeskel needs (only what is missing) and builds it into build/.
-# Usage: scripts/setup.sh            install what is missing, configure, build
-#        TREESKEL_BUILD_DIR=dir      build somewhere else (default: build/)
-#        TREESKEL_SKIP_INSTALL=1     do not touch packages (e.g. no root and no sudo)
+# Usage: scripts/setup.sh              install what is missing, configure, build
+#        TREESKEL_BUILD_DIR=dir        build somewhere else (default: build/)
+#        TREESKEL_SKIP_INSTALL=1       do not touch packages (e.g. no root and no sudo)
+#        TREESKEL_MESHLAB_PLUGIN=1     also the MeshLab plugin and its tests: Debian's MeshLab, Qt, GLEW,
+#                                      Xvfb, and MeshLab's headers from its source package
+#        TREESKEL_BUILD_TARGET=name    build this target only
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${TREESKEL_BUILD_DIR:-$here/build}
@@ -24,19 +27,34 @@ apt_install() {
 packages=(build-essential cmake pkg-config
           libcgal-dev libeigen3-dev libopenmesh-dev libassimp-dev libboost-graph-dev libtbb-dev
           libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev)
+meshlab=${TREESKEL_MESHLAB_PLUGIN:-0}
+if [ "$meshlab" = 1 ]; then
+  packages+=(meshlab qtbase5-dev libqt5opengl5-dev libglew-dev dpkg-dev xvfb xauth xdotool)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 [ ${#missing[@]} -eq 0 ] || apt_install "${missing[@]}"
 
-# The test suite checks exported glTF files with the Khronos validator, an npm package run by Node.
-if ! command -v node >/dev/null || ! command -v npm >/dev/null; then apt_install nodejs npm; fi
-if command -v npm >/dev/null && [ ! -f "$here/tools/node_modules/gltf-validator/package.json" ]; then
-  echo "setup: installing the glTF validator (npm) into tools/" >&2
-  (cd "$here/tools" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+# The test suite checks exported glTF files with the Khronos validator, an npm package run by Node
+# (not needed when building a single target, e.g. the plugin alone).
+if [ -z "${TREESKEL_BUILD_TARGET:-}" ]; then
+  if ! command -v node >/dev/null || ! command -v npm >/dev/null; then apt_install nodejs npm; fi
+  if command -v npm >/dev/null && [ ! -f "$here/tools/node_modules/gltf-validator/package.json" ]; then
+    echo "setup: installing the glTF validator (npm) into tools/" >&2
+    (cd "$here/tools" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
+  fi
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release ${TREESKEL_CMAKE_ARGS:-} >/dev/null
-cmake --build "$build" -j "$jobs"
+cmake_args=(-DCMAKE_BUILD_TYPE=Release)
+if [ "$meshlab" = 1 ]; then
+  # MeshLab's headers, from the Debian source package of the installed MeshLab (kept in the build dir).
+  "$here/plugins/meshlab/fetch-meshlab-source.sh" "$build/meshlab-source"
+  cmake_args+=(-DTREESKEL_MESHLAB_PLUGIN=ON "-DMESHLAB_SOURCE_DIR=$build/meshlab-source")
+fi
+cmake -S "$here" -B "$build" "${cmake_args[@]}" ${TREESKEL_CMAKE_ARGS:-} >/dev/null
+target=()
+[ -z "${TREESKEL_BUILD_TARGET:-}" ] || target=(--target "$TREESKEL_BUILD_TARGET")
+cmake --build "$build" -j "$jobs" "${target[@]}"

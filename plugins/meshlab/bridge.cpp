@@ -1,0 +1,229 @@
+// The plugin's calls into the library (C++17). Nothing here is MeshLab's: plain arrays in and out.
+#include "bridge.h"
+
+#include "treeskel/error.h"
+#include "treeskel/modeling/measurements.h"
+#include "treeskel/modeling/radii.h"
+#include "treeskel/modeling/sweep.h"
+#include "treeskel/pipeline.h"
+
+#include <cstdio>
+#include <exception>
+#include <new>
+#include <sstream>
+
+namespace treeskel::meshlab {
+
+namespace {
+
+PointCloud cloud_of(const std::vector<double>& xyz) {
+  if (xyz.size() % 3 != 0) throw InputError("the coordinates are not a whole number of points");
+  PointCloud cloud;
+  cloud.positions.reserve(xyz.size() / 3);
+  for (std::size_t i = 0; i + 2 < xyz.size(); i += 3) cloud.positions.emplace_back(xyz[i], xyz[i + 1], xyz[i + 2]);
+  recentre_offset(cloud);
+  return cloud;
+}
+
+Eigen::Vector3d up_of(const SkeletonParams& p) {
+  const Eigen::Vector3d up(p.up[0], p.up[1], p.up[2]);
+  if (!(up.norm() > 0.0)) throw OptionError("the up axis must not be the zero vector");
+  return up.normalized();
+}
+
+SkeletonOptions options_of(const SkeletonParams& p) {
+  SkeletonOptions o;
+  o.root.up = up_of(p);
+  o.octree.depth = p.octree_depth;
+  o.octree.points_per_cell = p.points_per_cell;
+  o.level_sets.band_width = p.band_width;
+  o.prune.min_length = p.prune_length;
+  o.graph.bridge_distance = p.bridge_distance;
+  o.cpc.weight = p.cpc_weight;
+  o.refine.eta = p.eta;
+  o.smooth.samples_per_edge = p.samples;
+  o.smooth.tension = p.tension;
+  o.use_prune = p.prune;
+  o.use_cpc = p.cpc;
+  o.use_refine = p.refine;
+  o.use_junctions = p.junctions;
+  o.use_smooth = p.smooth;
+  return o;
+}
+
+modeling::RadiusOptions radius_options_of(const ModelParams& p) {
+  modeling::RadiusOptions o;
+  o.exponent = p.exponent;
+  o.tip_weight = p.tip_weight;
+  return o;
+}
+
+modeling::SweepOptions sweep_options_of(const ModelParams& p) {
+  modeling::SweepOptions o;
+  o.trunk_segments = p.segments;
+  o.min_segments = p.min_segments;
+  o.min_radius = p.min_radius;
+  o.repair = p.repair;
+  return o;
+}
+
+/// Reports progress from `begin` to `end` percent as the library's share `done` of its work grows.
+void report(ProgressFn progress, const std::string& stage, double done, int begin, int end) {
+  if (progress) progress(begin + static_cast<int>(done * (end - begin)), stage.c_str());
+}
+
+/// The skeleton of `cloud` with radii from the pipe model, reporting progress in [0, end] percent.
+Skeleton skeleton_of(const PointCloud& cloud, const SkeletonParams& sp, const ModelParams& mp, ProgressFn progress,
+                     int end) {
+  SkeletonOptions o = options_of(sp);
+  const int skeleton_end = end * 9 / 10;
+  if (progress) o.progress = [&](const std::string& stage, double done) { report(progress, stage, done, 0, skeleton_end); };
+  Skeleton skeleton = extract_skeleton(cloud, o);
+  report(progress, "fitting radii", 1.0, 0, skeleton_end);
+  modeling::fit_radii(skeleton, &cloud, radius_options_of(mp));
+  return skeleton;
+}
+
+void append(std::vector<double>& xyz, const Eigen::Vector3d& p) {
+  xyz.push_back(p.x());
+  xyz.push_back(p.y());
+  xyz.push_back(p.z());
+}
+
+std::string format(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", value);
+  return text;
+}
+
+/// Runs `work`, turning every exception into `error` and false.
+template <class Work>
+bool guarded(std::string& error, Work&& work) {
+  try {
+    work();
+    return true;
+  } catch (const std::bad_alloc&) {
+    error = "treeskel ran out of memory";
+  } catch (const std::exception& e) {
+    error = e.what();
+  } catch (...) {
+    error = "treeskel failed with an unknown error";
+  }
+  return false;
+}
+
+}  // namespace
+
+SkeletonParams default_skeleton_params() {
+  const SkeletonOptions o;
+  SkeletonParams p;
+  p.octree_depth = o.octree.depth;
+  p.points_per_cell = o.octree.points_per_cell;
+  p.band_width = o.level_sets.band_width;
+  p.prune_length = o.prune.min_length;
+  p.bridge_distance = o.graph.bridge_distance;
+  p.cpc_weight = o.cpc.weight;
+  p.eta = o.refine.eta;
+  p.samples = o.smooth.samples_per_edge;
+  p.tension = o.smooth.tension;
+  p.prune = o.use_prune;
+  p.cpc = o.use_cpc;
+  p.refine = o.use_refine;
+  p.junctions = o.use_junctions;
+  p.smooth = o.use_smooth;
+  return p;
+}
+
+ModelParams default_model_params() {
+  const modeling::RadiusOptions r;
+  const modeling::SweepOptions s;
+  ModelParams p;
+  p.exponent = r.exponent;
+  p.tip_weight = r.tip_weight;
+  p.segments = s.trunk_segments;
+  p.min_segments = s.min_segments;
+  p.min_radius = s.min_radius;
+  p.repair = s.repair;
+  p.breast_height = modeling::MeasureOptions{}.breast_height;
+  return p;
+}
+
+bool resolve_scales(const std::vector<double>& xyz, SkeletonParams& params, std::string& error) {
+  return guarded(error, [&] {
+    const SkeletonOptions o = automatic_options(cloud_of(xyz), options_of(params));
+    params.octree_depth = o.octree.depth;
+    params.band_width = o.level_sets.band_width;
+    params.prune_length = o.prune.min_length;
+    params.bridge_distance = o.graph.bridge_distance;
+  });
+}
+
+bool tree_skeleton(const std::vector<double>& xyz, const SkeletonParams& sp, const ModelParams& mp,
+                   ProgressFn progress, SkeletonLayer& out, std::string& error) {
+  return guarded(error, [&] {
+    const PointCloud cloud = cloud_of(xyz);
+    const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 100);
+    SkeletonLayer layer;
+    for (NodeId v = 0; v < skeleton.node_count(); ++v) {
+      append(layer.xyz, skeleton[v].position + skeleton.offset);
+      layer.radius.push_back(skeleton[v].radius);
+    }
+    for (const auto e : boost::make_iterator_range(boost::edges(skeleton.graph))) {
+      layer.edges.push_back(static_cast<int>(boost::source(e, skeleton.graph)));
+      layer.edges.push_back(static_cast<int>(boost::target(e, skeleton.graph)));
+    }
+    std::ostringstream summary;
+    summary << "treeskel: " << cloud.size() << " points -> " << skeleton.node_count() << " nodes, "
+            << count_branch_points(skeleton.graph) << " branch points, " << count_endpoints(skeleton.graph)
+            << " endpoints; trunk radius " << format(skeleton[skeleton.root].radius);
+    layer.summary = summary.str();
+    report(progress, "done", 1.0, 0, 100);
+    out = std::move(layer);
+  });
+}
+
+bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const ModelParams& mp, ProgressFn progress,
+               MeshLayer& out, std::string& error) {
+  return guarded(error, [&] {
+    const PointCloud cloud = cloud_of(xyz);
+    const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 70);
+    report(progress, "sweeping the mesh", 0.7, 0, 100);
+    const modeling::SweepOptions so = sweep_options_of(mp);
+    modeling::SweepStats stats;
+    const modeling::TreeMesh mesh = modeling::sweep_mesh(skeleton, so, &stats);
+    report(progress, "checking the mesh", 0.9, 0, 100);
+    modeling::MeshCheck check = modeling::check_mesh(mesh, false);
+    check.self_intersections = stats.self_intersections;
+    check.self_intersections_checked = so.repair;
+    if (!check.ok() && !mp.allow_defects)
+      throw Error("the tree mesh failed its check: " + check.problem() + " (\"Keep a defective mesh\" adds it anyway)");
+
+    MeshLayer layer;
+    layer.xyz.reserve(3 * mesh.n_vertices());
+    for (const auto v : mesh.vertices()) {
+      const auto& p = mesh.point(v);
+      append(layer.xyz, Eigen::Vector3d(p[0], p[1], p[2]) + skeleton.offset);
+    }
+    layer.triangles.reserve(3 * mesh.n_faces());
+    for (const auto f : mesh.faces())
+      for (const auto v : mesh.fv_range(f)) layer.triangles.push_back(v.idx());
+
+    modeling::MeasureOptions mo;
+    mo.up = up_of(sp);
+    mo.breast_height = mp.breast_height;
+    const modeling::TreeMeasurements m = modeling::measure_tree(skeleton, &cloud, mo);
+    std::ostringstream summary;
+    summary << "treeskel: " << cloud.size() << " points -> " << skeleton.node_count() << " nodes -> "
+            << check.faces << " triangles ("
+            << (check.ok() ? (so.repair ? "closed, manifold, no self-intersection" : "closed, manifold") : check.problem())
+            << "); height " << format(m.height) << ", DBH " << (m.dbh ? format(*m.dbh) : std::string("n/a"))
+            << ", wood volume " << format(m.volume);
+    if (stats.thin_left_out + stats.joins_dropped + stats.repaired_dropped > 0)
+      summary << "; " << stats.thin_left_out + stats.joins_dropped + stats.repaired_dropped << " thin branches left out";
+    layer.summary = summary.str();
+    report(progress, "done", 1.0, 0, 100);
+    out = std::move(layer);
+  });
+}
+
+}  // namespace treeskel::meshlab
