@@ -1,0 +1,200 @@
+#include "bridge.h"
+
+#include "support/synthetic.h"
+#include "treeskel/disjoint_sets.h"
+#include "treeskel/io/point_cloud_io.h"
+#include "treeskel/pipeline.h"
+
+#include <Eigen/Core>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+
+namespace treeskel::meshlab {
+namespace {
+
+/// A bundled cloud as the plugin passes it: world coordinates, flat.
+std::vector<double> flat_cloud(const std::string& name) {
+  const PointCloud cloud = io::read_point_cloud(test::data_file(name));
+  std::vector<double> xyz;
+  for (const auto& p : cloud.positions)
+    for (int a = 0; a < 3; ++a) xyz.push_back(p[a] + cloud.offset[a]);
+  return xyz;
+}
+
+/// True when `edges` over `nodes` nodes form one tree.
+bool is_tree(std::size_t nodes, const std::vector<int>& edges) {
+  if (nodes == 0 || edges.size() != 2 * (nodes - 1)) return false;
+  DisjointSets<int> sets(nodes);
+  for (std::size_t e = 0; e < edges.size(); e += 2) {
+    if (edges[e] < 0 || edges[e + 1] < 0 || static_cast<std::size_t>(std::max(edges[e], edges[e + 1])) >= nodes)
+      return false;
+    if (!sets.unite(edges[e], edges[e + 1])) return false;  // a cycle
+  }
+  return true;
+}
+
+/// True when every directed edge of the triangles appears once and its reverse once: closed, manifold
+/// along edges and consistently oriented.
+bool closed_and_oriented(const std::vector<int>& triangles) {
+  std::map<std::pair<int, int>, int> directed;
+  for (std::size_t t = 0; t < triangles.size(); t += 3)
+    for (int k = 0; k < 3; ++k) ++directed[{triangles[t + k], triangles[t + (k + 1) % 3]}];
+  for (const auto& [edge, count] : directed) {
+    if (count != 1) return false;
+    const auto reverse = directed.find({edge.second, edge.first});
+    if (reverse == directed.end() || reverse->second != 1) return false;
+  }
+  return !triangles.empty();
+}
+
+std::vector<int> percents;
+bool record(const int percent, const char*) {
+  percents.push_back(percent);
+  return true;
+}
+
+TEST(MeshlabBridge, DefaultsAreTheLibrarysWithAutomaticScales) {
+  const SkeletonParams p = default_skeleton_params();
+  const SkeletonOptions o;
+  EXPECT_EQ(p.octree_depth, 0);
+  EXPECT_EQ(p.band_width, 0.0);
+  EXPECT_EQ(p.prune_length, 0.0);
+  EXPECT_EQ(p.bridge_distance, 0.0);
+  EXPECT_EQ(p.points_per_cell, o.octree.points_per_cell);
+  EXPECT_EQ(p.cpc_weight, o.cpc.weight);
+  EXPECT_EQ(p.samples, o.smooth.samples_per_edge);
+  EXPECT_EQ(p.up[2], 1.0);
+  const ModelParams m = default_model_params();
+  EXPECT_EQ(m.exponent, 2.0);
+  EXPECT_GT(m.segments, m.min_segments);
+  EXPECT_TRUE(m.repair);
+  EXPECT_FALSE(m.allow_defects);
+}
+
+TEST(MeshlabBridge, ResolvedScalesAreTheLibrarysAndGiveTheSameSkeleton) {
+  const std::vector<double> xyz = flat_cloud("tree_rtwig.txt");
+  SkeletonParams resolved = default_skeleton_params();
+  std::string error;
+  ASSERT_TRUE(resolve_scales(xyz, resolved, error)) << error;
+  EXPECT_GT(resolved.octree_depth, 0);
+  EXPECT_GT(resolved.band_width, 0.0);
+  EXPECT_EQ(resolved.prune_length, resolved.band_width);
+  EXPECT_DOUBLE_EQ(resolved.bridge_distance, 2.0 * resolved.band_width);
+
+  const ModelParams model = default_model_params();
+  SkeletonLayer automatic, spelled_out;
+  ASSERT_TRUE(tree_skeleton(xyz, default_skeleton_params(), model, nullptr, automatic, error)) << error;
+  ASSERT_TRUE(tree_skeleton(xyz, resolved, model, nullptr, spelled_out, error)) << error;
+  EXPECT_EQ(automatic.xyz, spelled_out.xyz);
+  EXPECT_EQ(automatic.edges, spelled_out.edges);
+}
+
+TEST(MeshlabBridge, SkeletonLayerIsATreeWithPositiveRadiiInTheCloudsFrame) {
+  const std::vector<double> xyz = flat_cloud("tree_adtree1.xyz");
+  SkeletonLayer layer;
+  std::string error;
+  percents.clear();
+  ASSERT_TRUE(tree_skeleton(xyz, default_skeleton_params(), default_model_params(), record, layer, error)) << error;
+  const std::size_t nodes = layer.radius.size();
+  ASSERT_EQ(layer.xyz.size(), 3 * nodes);
+  EXPECT_GT(nodes, 100u);
+  EXPECT_TRUE(is_tree(nodes, layer.edges));
+  for (double r : layer.radius) EXPECT_GT(r, 0.0);
+  // Nodes lie within the cloud's box (world coordinates, not the library's local frame), but for the
+  // little a smoothing spline may overshoot a tip: 2% of the box's diagonal.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (std::size_t i = 0; i < xyz.size(); i += 3)
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], xyz[i + a]), hi[a] = std::max(hi[a], xyz[i + a]);
+  const double slack = 0.02 * (hi - lo).norm();
+  for (std::size_t i = 0; i < layer.xyz.size(); i += 3)
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_GE(layer.xyz[i + a], lo[a] - slack);
+      EXPECT_LE(layer.xyz[i + a], hi[a] + slack);
+    }
+  ASSERT_FALSE(percents.empty());
+  EXPECT_TRUE(std::is_sorted(percents.begin(), percents.end()));
+  EXPECT_GE(percents.front(), 0);
+  EXPECT_EQ(percents.back(), 100);
+  EXPECT_NE(layer.summary.find("branch points"), std::string::npos);
+}
+
+TEST(MeshlabBridge, MeshLayerIsClosedAndOriented) {
+  const std::vector<double> xyz = flat_cloud("tree_rtwig.txt");
+  MeshLayer layer;
+  std::string error;
+  percents.clear();
+  ASSERT_TRUE(tree_mesh(xyz, default_skeleton_params(), default_model_params(), record, layer, error)) << error;
+  EXPECT_GT(layer.triangles.size(), 3000u);
+  EXPECT_EQ(layer.triangles.size() % 3, 0u);
+  EXPECT_TRUE(closed_and_oriented(layer.triangles));
+  // Euler characteristic of a sphere: one closed genus-0 component.
+  const long v = static_cast<long>(layer.xyz.size() / 3), f = static_cast<long>(layer.triangles.size() / 3);
+  EXPECT_EQ(v - f / 2, 2);
+  EXPECT_TRUE(std::is_sorted(percents.begin(), percents.end()));
+  EXPECT_EQ(percents.back(), 100);
+  EXPECT_NE(layer.summary.find("closed, manifold, no self-intersection"), std::string::npos);
+}
+
+TEST(MeshlabBridge, CloudsTheMethodCannotUseAreErrorsNotExceptions) {
+  SkeletonLayer skeleton;
+  MeshLayer mesh;
+  SkeletonParams p = default_skeleton_params();
+  const ModelParams m = default_model_params();
+  std::string error;
+  EXPECT_FALSE(tree_skeleton({}, p, m, nullptr, skeleton, error));
+  EXPECT_NE(error.find("empty"), std::string::npos) << error;
+  EXPECT_FALSE(tree_mesh({0, 0, 0, 1, 0, 0, 0, 1, 1}, p, m, nullptr, mesh, error));
+  EXPECT_NE(error.find("3 points"), std::string::npos) << error;
+  EXPECT_FALSE(resolve_scales({0, 0, 0, 1, 0, 0, 0, 1, 1}, p, error));
+  EXPECT_EQ(p.band_width, 0.0);  // left automatic
+  EXPECT_FALSE(tree_skeleton({1, 2}, p, m, nullptr, skeleton, error));
+  p.up[0] = p.up[1] = p.up[2] = 0.0;
+  EXPECT_FALSE(tree_skeleton(flat_cloud("tree_rtwig.txt"), p, m, nullptr, skeleton, error));
+  EXPECT_NE(error.find("up axis"), std::string::npos) << error;
+  EXPECT_TRUE(skeleton.xyz.empty());  // nothing half-filled
+}
+
+/// The bundled scripts hold every parameter the filters declare, at the defaults (0 for automatic scales).
+TEST(MeshlabBridge, BundledScriptsHoldTheDefaults) {
+  const SkeletonParams s = default_skeleton_params();
+  const ModelParams m = default_model_params();
+  const std::map<std::string, double> expected = {
+      {"upAxis", 0},          {"octreeDepth", 0},        {"pointsPerCell", s.points_per_cell},
+      {"bandWidth", 0},       {"pruneLength", 0},        {"bridgeDistance", 0},
+      {"cpcWeight", s.cpc_weight}, {"eta", s.eta},       {"splineSamples", s.samples},
+      {"splineTension", s.tension}, {"exponent", m.exponent}, {"tipWeight", m.tip_weight},
+      {"segments", m.segments}, {"minSegments", m.min_segments}, {"minRadius", m.min_radius},
+      {"breastHeight", m.breast_height}};
+  const std::map<std::string, bool> flags = {{"bridgeGaps", true}, {"prune", s.prune},   {"cpc", s.cpc},
+                                             {"refine", s.refine}, {"junctions", s.junctions},
+                                             {"smooth", s.smooth}, {"repair", m.repair},
+                                             {"keepDefective", m.allow_defects}};
+  for (const auto& [script, count] : {std::pair<std::string, std::size_t>{"tree_skeleton.mlx", 18},
+                                      std::pair<std::string, std::size_t>{"tree_mesh.mlx", 24}}) {
+    std::ifstream in(std::string(TREESKEL_MESHLAB_SCRIPTS) + "/" + script);
+    ASSERT_TRUE(in) << script;
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string body = text.str();
+    const std::regex param(R"re(<Param type="(\w+)" name="(\w+)" value="([^"]*)")re");
+    std::size_t seen = 0;
+    for (auto it = std::sregex_iterator(body.begin(), body.end(), param); it != std::sregex_iterator(); ++it, ++seen) {
+      const std::string type = (*it)[1], name = (*it)[2], value = (*it)[3];
+      if (type == "RichBool") {
+        ASSERT_TRUE(flags.count(name)) << script << ": " << name;
+        EXPECT_EQ(value, flags.at(name) ? "true" : "false") << script << ": " << name;
+      } else {
+        ASSERT_TRUE(expected.count(name)) << script << ": " << name;
+        EXPECT_DOUBLE_EQ(std::stod(value), expected.at(name)) << script << ": " << name;
+      }
+    }
+    EXPECT_EQ(seen, count) << script;
+  }
+}
+
+}  // namespace
+}  // namespace treeskel::meshlab

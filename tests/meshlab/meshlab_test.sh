@@ -1,0 +1,103 @@
+#!/usr/bin/env bash
+# The MeshLab plugin in the real MeshLab (Debian's meshlabserver, under Xvfb), one case per ctest test.
+# Usage: meshlab_test.sh CASE PREFIX CHECKER DATA_DIR SCRIPTS_DIR WORK_DIR
+#   CASE: load | skeleton-ply | skeleton-xyz | mesh-ply | mesh-xyz | bad-input | gui-bad-input
+#   PREFIX: the private MeshLab that plugins/meshlab/install.sh PREFIX made
+set -euo pipefail
+case_name=$1 prefix=$2 checker=$3 data=$4 scripts=$5 work=$6/$1
+command -v xvfb-run >/dev/null || { echo "xvfb-run is missing (Debian package xvfb)" >&2; exit 1; }
+server=$prefix/bin/meshlabserver
+[ -x "$server" ] || { echo "no meshlabserver in $prefix (run plugins/meshlab/install.sh PREFIX)" >&2; exit 1; }
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+
+# meshlabserver under a private X server; its exit status, its output in server.log.
+run() { set +e; xvfb-run -a "$server" "$@" > server.log 2>&1; local rc=$?; set -e; return $rc; }
+
+# The bundled rTwig cloud as an ASCII PLY (MeshLab's own reader), the AdTree cloud as it is (.xyz).
+input_for() {
+  case $1 in
+    ply) local n; n=$(awk 'NF >= 3' "$data/tree_rtwig.txt" | wc -l)
+         { printf 'ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n' "$n"
+           awk 'NF >= 3 {print $1, $2, $3}' "$data/tree_rtwig.txt"; } > cloud.ply
+         echo cloud.ply ;;
+    xyz) cp "$data/tree_adtree1.xyz" cloud.xyz; echo cloud.xyz ;;
+  esac
+}
+
+expect_ok() {
+  if ! run "$@"; then cat server.log >&2; echo "meshlabserver failed" >&2; exit 1; fi
+}
+
+case $case_name in
+  load)
+    expect_ok -d dump.txt
+    for filter in "Tree Skeleton (CPC)" "Tree Mesh from Point Cloud"; do
+      grep -qF "$filter" dump.txt || { echo "filter '$filter' is not listed" >&2; exit 1; }
+    done
+    # Parameters of each filter: the rows of its table in the dump.
+    rows() { awk -v f="$1" 'index($0, f) {on = 1; next} on && /\\section/ {exit} on && /<TR>/ {n++} END {print n + 0}' dump.txt; }
+    skeleton_rows=$(rows "Tree Skeleton (CPC)") mesh_rows=$(rows "Tree Mesh from Point Cloud")
+    echo "Tree Skeleton (CPC): $skeleton_rows parameters; Tree Mesh from Point Cloud: $mesh_rows parameters"
+    [ "$skeleton_rows" -eq 18 ] && [ "$mesh_rows" -eq 24 ] || { echo "unexpected parameter counts" >&2; exit 1; }
+    grep -qF "Level set band width" dump.txt && grep -qF "Thinnest branch kept" dump.txt
+    ;;
+  skeleton-ply|skeleton-xyz)
+    cloud=$(input_for "${case_name#skeleton-}")
+    expect_ok -i "$cloud" -o skeleton.obj -o skeleton.ply -m vq sa -s "$scripts/tree_skeleton.mlx"
+    grep -F "treeskel:" server.log | head -n 1
+    "$checker" skeleton skeleton.obj skeleton.ply "$cloud"
+    ;;
+  mesh-ply|mesh-xyz)
+    cloud=$(input_for "${case_name#mesh-}")
+    out=tree.obj; [ "$case_name" = mesh-xyz ] && out=tree.ply
+    expect_ok -i "$cloud" -o "$out" -s "$scripts/tree_mesh.mlx"
+    grep -F "treeskel:" server.log | head -n 1
+    "$checker" mesh "$out" "$cloud"
+    ;;
+  bad-input)
+    header='ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n'
+    printf "$header" 0 > empty.ply
+    { printf "$header" 3; printf '0 0 0\n1 0 0\n0 1 1\n'; } > three.ply
+    for script in tree_skeleton tree_mesh; do
+      for cloud in empty three; do
+        rc=0; run -i $cloud.ply -o out.obj -s "$scripts/$script.mlx" || rc=$?
+        # A failed filter ends the script with MeshLab's own error status (255); a crash would be a
+        # signal (128 + n) and an abort 134.
+        [ "$rc" -eq 255 ] || { cat server.log >&2; echo "$script on $cloud: exit $rc, expected 255" >&2; exit 1; }
+        grep -F "failed on layer '$cloud.ply'" server.log || { cat server.log >&2; echo "no error message" >&2; exit 1; }
+        [ ! -e out.obj ] || { echo "$script on $cloud wrote an output" >&2; exit 1; }
+      done
+    done
+    ;;
+  gui-bad-input)
+    # In the GUI: each filter on a 3-point layer shows MeshLab's "Filter Failure" message, and after
+    # it is dismissed MeshLab is still running.
+    command -v xdotool >/dev/null || { echo "xdotool is missing (Debian package xdotool)" >&2; exit 1; }
+    header='ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n'
+    { printf "$header" 3; printf '0 0 0\n1 0 0\n0 1 1\n'; } > three.ply
+    here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+    cat > session.sh <<SESSION
+set -euo pipefail
+"$prefix/bin/meshlab" "$work/three.ply" > "$work/meshlab.log" 2>&1 &
+meshlab=\$!
+for filter in "Tree Mesh from Point Cloud" "Tree Skeleton (CPC)"; do
+  read -r apply_x apply_y close_x close_y < <("$here/plugins/meshlab/gui-open-filter.sh" "\$filter")
+  xdotool mousemove \$apply_x \$apply_y click 1
+  failure=""
+  for i in \$(seq 40); do failure=\$(xdotool search --onlyvisible --name "^Filter Failure\$" 2>/dev/null | head -n 1) && [ -n "\$failure" ] && break; sleep 0.5; done
+  [ -n "\$failure" ] || { echo "\$filter: no Filter Failure message" >&2; exit 1; }
+  echo "\$filter: MeshLab showed 'Filter Failure'"
+  # No window manager under Xvfb: the keyboard goes where the pointer is. Return presses OK.
+  eval "\$(xdotool getwindowgeometry --shell "\$failure")"
+  xdotool mousemove \$((X + WIDTH / 2)) \$((Y + HEIGHT / 2)) key Return; sleep 1
+  ! xdotool search --onlyvisible --name "^Filter Failure\$" >/dev/null 2>&1 || { echo "the message did not close" >&2; exit 1; }
+  kill -0 \$meshlab || { echo "\$filter: MeshLab is no longer running" >&2; exit 1; }
+  xdotool mousemove \$close_x \$close_y click 1; sleep 1
+done
+kill -0 \$meshlab && echo "MeshLab still running after both failures"
+kill \$meshlab
+SESSION
+    xvfb-run -a -s "-screen 0 1280x1024x24" bash session.sh
+    ;;
+  *) echo "unknown case $case_name" >&2; exit 2 ;;
+esac
