@@ -31,39 +31,54 @@ Eigen::Vector3d up_of(const SkeletonParams& p) {
   return up.normalized();
 }
 
+/// Every field the plugin shares with the library's options, once: `copy(param, option)` is called
+/// for each pair, so one table serves both directions.
+template <class Params, class Options, class Copy>
+void skeleton_fields(Params& p, Options& o, Copy copy) {
+  copy(p.octree_depth, o.octree.depth);
+  copy(p.points_per_cell, o.octree.points_per_cell);
+  copy(p.band_width, o.level_sets.band_width);
+  copy(p.prune_length, o.prune.min_length);
+  copy(p.bridge_distance, o.graph.bridge_distance);
+  copy(p.cpc_weight, o.cpc.weight);
+  copy(p.eta, o.refine.eta);
+  copy(p.samples, o.smooth.samples_per_edge);
+  copy(p.tension, o.smooth.tension);
+  copy(p.prune, o.use_prune);
+  copy(p.cpc, o.use_cpc);
+  copy(p.refine, o.use_refine);
+  copy(p.junctions, o.use_junctions);
+  copy(p.smooth, o.use_smooth);
+}
+
+template <class Params, class Radii, class Sweep, class Copy>
+void model_fields(Params& p, Radii& r, Sweep& s, Copy copy) {
+  copy(p.exponent, r.exponent);
+  copy(p.tip_weight, r.tip_weight);
+  copy(p.segments, s.trunk_segments);
+  copy(p.min_segments, s.min_segments);
+  copy(p.min_radius, s.min_radius);
+  copy(p.repair, s.repair);
+}
+
+const auto to_params = [](auto& param, const auto& option) { param = option; };
+const auto to_options = [](const auto& param, auto& option) { option = param; };
+
 SkeletonOptions options_of(const SkeletonParams& p) {
   SkeletonOptions o;
   o.root.up = up_of(p);
-  o.octree.depth = p.octree_depth;
-  o.octree.points_per_cell = p.points_per_cell;
-  o.level_sets.band_width = p.band_width;
-  o.prune.min_length = p.prune_length;
-  o.graph.bridge_distance = p.bridge_distance;
-  o.cpc.weight = p.cpc_weight;
-  o.refine.eta = p.eta;
-  o.smooth.samples_per_edge = p.samples;
-  o.smooth.tension = p.tension;
-  o.use_prune = p.prune;
-  o.use_cpc = p.cpc;
-  o.use_refine = p.refine;
-  o.use_junctions = p.junctions;
-  o.use_smooth = p.smooth;
+  skeleton_fields(p, o, to_options);
   return o;
 }
 
-modeling::RadiusOptions radius_options_of(const ModelParams& p) {
-  modeling::RadiusOptions o;
-  o.exponent = p.exponent;
-  o.tip_weight = p.tip_weight;
-  return o;
-}
+struct ModelOptions {
+  modeling::RadiusOptions radii;
+  modeling::SweepOptions sweep;
+};
 
-modeling::SweepOptions sweep_options_of(const ModelParams& p) {
-  modeling::SweepOptions o;
-  o.trunk_segments = p.segments;
-  o.min_segments = p.min_segments;
-  o.min_radius = p.min_radius;
-  o.repair = p.repair;
+ModelOptions options_of(const ModelParams& p) {
+  ModelOptions o;
+  model_fields(p, o.radii, o.sweep, to_options);
   return o;
 }
 
@@ -80,7 +95,7 @@ Skeleton skeleton_of(const PointCloud& cloud, const SkeletonParams& sp, const Mo
   if (progress) o.progress = [&](const std::string& stage, double done) { report(progress, stage, done, 0, skeleton_end); };
   Skeleton skeleton = extract_skeleton(cloud, o);
   report(progress, "fitting radii", 1.0, 0, skeleton_end);
-  modeling::fit_radii(skeleton, &cloud, radius_options_of(mp));
+  modeling::fit_radii(skeleton, &cloud, options_of(mp).radii);
   return skeleton;
 }
 
@@ -115,35 +130,16 @@ bool guarded(std::string& error, Work&& work) {
 }  // namespace
 
 SkeletonParams default_skeleton_params() {
-  const SkeletonOptions o;
   SkeletonParams p;
-  p.octree_depth = o.octree.depth;
-  p.points_per_cell = o.octree.points_per_cell;
-  p.band_width = o.level_sets.band_width;
-  p.prune_length = o.prune.min_length;
-  p.bridge_distance = o.graph.bridge_distance;
-  p.cpc_weight = o.cpc.weight;
-  p.eta = o.refine.eta;
-  p.samples = o.smooth.samples_per_edge;
-  p.tension = o.smooth.tension;
-  p.prune = o.use_prune;
-  p.cpc = o.use_cpc;
-  p.refine = o.use_refine;
-  p.junctions = o.use_junctions;
-  p.smooth = o.use_smooth;
+  const SkeletonOptions o;
+  skeleton_fields(p, o, to_params);
   return p;
 }
 
 ModelParams default_model_params() {
-  const modeling::RadiusOptions r;
-  const modeling::SweepOptions s;
   ModelParams p;
-  p.exponent = r.exponent;
-  p.tip_weight = r.tip_weight;
-  p.segments = s.trunk_segments;
-  p.min_segments = s.min_segments;
-  p.min_radius = s.min_radius;
-  p.repair = s.repair;
+  const ModelOptions o;
+  model_fields(p, o.radii, o.sweep, to_params);
   p.breast_height = modeling::MeasureOptions{}.breast_height;
   return p;
 }
@@ -151,10 +147,7 @@ ModelParams default_model_params() {
 bool resolve_scales(const std::vector<double>& xyz, SkeletonParams& params, std::string& error) {
   return guarded(error, [&] {
     const SkeletonOptions o = automatic_options(cloud_of(xyz), options_of(params));
-    params.octree_depth = o.octree.depth;
-    params.band_width = o.level_sets.band_width;
-    params.prune_length = o.prune.min_length;
-    params.bridge_distance = o.graph.bridge_distance;
+    skeleton_fields(params, o, to_params);
   });
 }
 
@@ -188,7 +181,7 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
     const PointCloud cloud = cloud_of(xyz);
     const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 70);
     report(progress, "sweeping the mesh", 0.7, 0, 100);
-    const modeling::SweepOptions so = sweep_options_of(mp);
+    const modeling::SweepOptions so = options_of(mp).sweep;
     modeling::SweepStats stats;
     const modeling::TreeMesh mesh = modeling::sweep_mesh(skeleton, so, &stats);
     report(progress, "checking the mesh", 0.9, 0, 100);
