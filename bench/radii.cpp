@@ -1,6 +1,6 @@
 // How close the fitted radii come to known ones.
 //
-//   bench_radii [--seed S] [--pypetree DIR] [--archi DIR]
+//   bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E]   (E: Leonardo exponent, 2 by default)
 //
 // - The paper's six synthetic trees (eval::make_paper_tree): the clean cloud of each (the paper's
 //   first point count) is skeletonized, radii fitted, and compared with the generating cylinders.
@@ -97,13 +97,15 @@ double treeqsm_diameter(const std::string& path, double base, double height) {
 int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   std::string pypetree, archi;
+  modeling::RadiusOptions radius_options;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--seed" && i + 1 < argc) seed = std::stoull(argv[++i]);
     else if (a == "--pypetree" && i + 1 < argc) pypetree = argv[++i];
     else if (a == "--archi" && i + 1 < argc) archi = argv[++i];
+    else if (a == "--exponent" && i + 1 < argc) radius_options.exponent = std::stod(argv[++i]);
     else {
-      std::cout << "usage: bench_radii [--seed S] [--pypetree DIR] [--archi DIR]\n";
+      std::cout << "usage: bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E]\n";
       return a == "-h" || a == "--help" ? 0 : 2;
     }
   }
@@ -114,7 +116,7 @@ int main(int argc, char** argv) {
     const auto clouds = eval::make_paper_clouds(truth, index, seed);
     const auto& clean = clouds.front();
     Skeleton s = extract_skeleton(clean.cloud);
-    modeling::fit_radii(s, &clean.cloud);
+    modeling::fit_radii(s, &clean.cloud, radius_options);
     const RadiusError e = compare(s, truth.skeleton);
     sum += e.mean;
     std::printf("| tree%d | %s | %.1f%% | %.1f%% | %.0f%% |\n", index, clean.name.c_str(), 100 * e.mean, 100 * e.median,
@@ -132,7 +134,7 @@ int main(int argc, char** argv) {
     SkeletonOptions o;
     o.root.up = Eigen::Vector3d::UnitY();
     Skeleton s = extract_skeleton(cloud, o);
-    modeling::fit_radii(s, &cloud);
+    modeling::fit_radii(s, &cloud, radius_options);
     const RadiusError e = compare(s, truth);
     std::printf("pypetree artificial tree (%zu points): mean radius error %.1f%%, median %.1f%%, %.0f%% of the nodes covered\n\n",
                 cloud.size(), 100 * e.mean, 100 * e.median, 100 * e.coverage);
@@ -141,7 +143,7 @@ int main(int argc, char** argv) {
     const std::string las = archi + "/Tree_1_point_cloud.las", qsm = archi + "/Tree_1_TreeQSM.txt";
     const PointCloud cloud = io::read_point_cloud(las);
     Skeleton s = extract_skeleton(cloud);
-    modeling::fit_radii(s, &cloud);
+    modeling::fit_radii(s, &cloud, radius_options);
     const modeling::TreeMeasurements m = modeling::measure_tree(s, &cloud);
     double base = std::numeric_limits<double>::infinity();
     for (const auto& p : cloud.positions) base = std::min(base, p.z() + cloud.offset.z());
