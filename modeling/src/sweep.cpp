@@ -870,8 +870,8 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
     st.twigs_absorbed = a.absorbed;
     st.joins_thinned = a.thinned;
     st.joins_dropped = a.dropped;
-    // Thins a subtree, up to max_shrinks times (twice that for a limb other than the root), then
-    // leaves a thin one out; false when it may be neither.
+    // Thins a subtree, up to max_shrinks times (twice that for a limb), then leaves it out (a limb
+    // is down to 0.7^6 = 12% of its radius by then); false for the trunk, which may not go.
     auto shrink_or_drop = [&](NodeId top) {
       const bool limb = g[top].radius >= options.max_drop_radius * max_radius;
       const int budget = (limb && top != skeleton.root ? 2 : 1) * options.max_shrinks;
@@ -881,7 +881,7 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
         ++st.repaired_shrunk;
         return true;
       }
-      if (top == skeleton.root || limb) return false;
+      if (top == skeleton.root) return false;
       drop(top);
       ++st.repaired_dropped;
       return true;
