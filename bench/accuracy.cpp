@@ -178,9 +178,12 @@ int main(int argc, char** argv) {
      << "The first row below is the paper's pipeline as printed (octree depth 2 + log8 N; level sets, CPC, "
         "refinement, smoothing), with treeskel's gap bridging only over 4 cells. The next rows use treeskel's "
         "level sets and add the paper's stages one by one; the last row adds treeskel's own stages. The changes:\n\n"
-     << "1. **Octree depth from the point density** (`OctreeOptions::points_per_cell`, default 3): the deepest "
-        "depth at which a typical point's cell holds at least 3 points, at most one level deeper than the paper's. "
-        "The paper's depth leaves thin twigs and close forks unresolved on these clouds.\n"
+     << "1. **Octree depth from the point density** (`OctreeOptions::points_per_cell`, default "
+     << OctreeOptions{}.points_per_cell << "): the deepest depth at which a typical point's cell holds at least "
+     << OctreeOptions{}.points_per_cell << " points, at most one level deeper than the paper's. "
+        "The paper's depth leaves thin twigs and close forks unresolved on these clouds (3 points a cell, our "
+        "first default, still left BPC and EPC under 0.90 and tree 5 under 0.80: `bench/score_synth.sh "
+        "--cell-points 3 --prune-radius 1.5`).\n"
      << "2. **Ring joining** (`LevelSetOptions::join_factor`): band components that hang from the same node and "
         "lie closer than half its radius are one sparsely sampled ring, not a fork; and each component hangs "
         "from the lower component it shares most edges with, not only from its lowest cell's predecessor.\n"
@@ -188,9 +191,10 @@ int main(int argc, char** argv) {
         "the points are joined across gaps up to a tenth of the cloud's size, so a branch cut off by an "
         "occlusion is not lost (this is what moves SPD on the missing-data clouds).\n"
      << "4. **CPC guarded** (`cpc.h`): moves only across the branch, only onto a cylinder-like slice.\n"
-     << "5. **Spur pruning** (`prune.h`) and **fork placement** (`junction.h`): they trade a little recall "
-        "for much precision (branch points 0.73 → 0.85 on seed 1): without them a third of the predicted "
-        "branch points are spurious, which BPC and EPC, being recall only, do not show.\n\n";
+     << "5. **Spur pruning** (`prune.h`, a leaf branch that stays within " << PruneOptions{}.radius_factor
+     << " radii of its host goes) and **fork placement** (`junction.h`): they trade a little recall for much "
+        "precision (compare the last two rows): without them a large share of the predicted branch points "
+        "are spurious, which BPC and EPC, being recall only, do not show.\n\n";
 
   // Overall means per configuration (the ablation).
   md << "## Means over the 72 clouds\n\n"

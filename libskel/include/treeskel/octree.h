@@ -25,7 +25,7 @@ struct OctreeOptions {
   /// per cell on sparsely sampled stems, whose level sets then fall apart, or many on dense clouds of
   /// thin twigs, which it cannot resolve; a density target works for both.
   /// 0: the paper's depth, ⌊2 + log8 N⌋.
-  double points_per_cell = 3.0;
+  double points_per_cell = 2.0;
   int max_extra_depth = 1;
   L1MedianOptions median;  ///< Weiszfeld settings for the per-cell L1-medians
 };
