@@ -49,7 +49,8 @@ inline bool load_pypetree(const std::string& dir, PointCloud& cloud, Skeleton& t
     truth[v].position /= size;
     truth[v].radius /= size;
   }
-  cloud.offset.setZero();
+  cloud.offset.setZero();  // both frames now start at the cloud's minimum corner
+  truth.offset.setZero();
   return true;
 }
 
