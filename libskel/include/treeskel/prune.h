@@ -17,7 +17,7 @@ struct PruneOptions {
   /// ... or one whose nodes all stay within this many radii (plus half a band) of the branch it
   /// leaves: the axis through a few nodes below the fork and along its other children, whose median
   /// radius is the host radius.
-  double radius_factor = 2.0;
+  double radius_factor = 1.75;
   int host_nodes = 4;  ///< nodes of each neighbouring chain that define the host branch
 };
 
