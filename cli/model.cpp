@@ -13,7 +13,6 @@
 #include "treeskel/modeling/sweep.h"
 
 #include <nlohmann/json.hpp>
-#include <sys/resource.h>
 
 #include <cmath>
 #include <filesystem>
@@ -166,9 +165,7 @@ int run(Settings& s) {
                {"repaired_shrunk", sweep_stats.repaired_shrunk},
                {"repaired_dropped", sweep_stats.repaired_dropped}};
   j["seconds"] = {{"skeleton", skeleton_seconds}, {"total", seconds}};
-  struct rusage usage {};
-  ::getrusage(RUSAGE_SELF, &usage);
-  j["peak_memory_mb"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  j["peak_memory_mb"] = peak_memory_mb();
   if (!s.report.empty()) io::write_atomically(s.report, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
   progress.clear();
   if (s.json) {

@@ -32,4 +32,7 @@ private:
 /// Formats a number of seconds as "0.42 s".
 std::string format_seconds(double seconds);
 
+/// The process's peak resident memory so far, in MB.
+double peak_memory_mb();
+
 }  // namespace treeskel::cli

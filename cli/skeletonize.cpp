@@ -10,7 +10,6 @@
 #include "treeskel/pipeline.h"
 
 #include <nlohmann/json.hpp>
-#include <sys/resource.h>
 
 #include <filesystem>
 #include <iostream>
@@ -64,9 +63,7 @@ int run(Settings& s) {
     j["endpoints"] = endpoints;
     j["length"] = total_length(skeleton.graph);
     j["seconds"] = seconds;
-    struct rusage usage {};
-    ::getrusage(RUSAGE_SELF, &usage);
-    j["peak_memory_mb"] = static_cast<double>(usage.ru_maxrss) / 1024.0;
+    j["peak_memory_mb"] = peak_memory_mb();
     j["left_out"] = {{"total", skeleton.left_out.total()},
                      {"small_clusters", skeleton.left_out.small_clusters},
                      {"far_parts", skeleton.left_out.far_parts}};
