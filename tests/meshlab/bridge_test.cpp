@@ -1,7 +1,6 @@
 #include "bridge.h"
 
 #include "support/synthetic.h"
-#include "treeskel/disjoint_sets.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/pipeline.h"
 
@@ -25,16 +24,15 @@ std::vector<double> flat_cloud(const std::string& name) {
   return xyz;
 }
 
-/// True when `edges` over `nodes` nodes form one tree.
+/// True when `edges` (index pairs) over `nodes` nodes form one tree.
 bool is_tree(std::size_t nodes, const std::vector<int>& edges) {
-  if (nodes == 0 || edges.size() != 2 * (nodes - 1)) return false;
-  DisjointSets<int> sets(nodes);
-  for (std::size_t e = 0; e < edges.size(); e += 2) {
+  SkeletonGraph graph(nodes);
+  for (std::size_t e = 0; e + 1 < edges.size(); e += 2) {
     if (edges[e] < 0 || edges[e + 1] < 0 || static_cast<std::size_t>(std::max(edges[e], edges[e + 1])) >= nodes)
       return false;
-    if (!sets.unite(edges[e], edges[e + 1])) return false;  // a cycle
+    boost::add_edge(static_cast<NodeId>(edges[e]), static_cast<NodeId>(edges[e + 1]), graph);
   }
-  return true;
+  return treeskel::is_tree(graph);
 }
 
 /// True when every directed edge of the triangles appears once and its reverse once: closed, manifold

@@ -3,7 +3,7 @@
 //                                                           nodes inside the cloud's box
 //   meshlab_check mesh MESH CLOUD                           closed, manifold, one outward component without
 //                                                           self-intersection, extent close to the cloud's
-#include "treeskel/disjoint_sets.h"
+#include "treeskel/skeleton.h"
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/modeling/tree_mesh.h"
@@ -52,12 +52,13 @@ int check_skeleton(const std::string& obj, const std::string& ply, const std::st
   if (nodes.size() < 10) fail(obj + ": only " + std::to_string(nodes.size()) + " nodes");
   if (edges.size() + 1 != nodes.size())
     fail(obj + ": " + std::to_string(edges.size()) + " edges for " + std::to_string(nodes.size()) + " nodes");
-  DisjointSets<long> sets(nodes.size());
+  SkeletonGraph graph(nodes.size());
   for (const auto& [a, b] : edges) {
     if (a < 0 || b < 0 || a >= static_cast<long>(nodes.size()) || b >= static_cast<long>(nodes.size()))
       fail(obj + ": an edge names a node that does not exist");
-    if (!sets.unite(a, b)) fail(obj + ": the edges form a cycle");
+    boost::add_edge(static_cast<NodeId>(a), static_cast<NodeId>(b), graph);
   }
+  if (!is_tree(graph)) fail(obj + ": the edges form a cycle");  // n - 1 edges: a cycle iff not connected
 
   // Smoothing splines may overshoot a branch tip a little beyond the outermost point.
   Eigen::AlignedBox3d box = world_box(io::read_point_cloud(cloud_file));
