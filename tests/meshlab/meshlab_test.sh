@@ -13,13 +13,19 @@ rm -rf "$work" && mkdir -p "$work" && cd "$work"
 # meshlabserver under a private X server; its exit status, its output in server.log.
 run() { set +e; xvfb-run -a "$server" "$@" > server.log 2>&1; local rc=$?; set -e; return $rc; }
 
+# Writes stdin's "x y z" rows as an ASCII PLY point cloud to $1.
+to_ply() {
+  local rows; rows=$(cat)
+  { printf 'ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n' \
+      "$(printf '%s' "$rows" | grep -c .)"
+    [ -z "$rows" ] || printf '%s\n' "$rows"; } > "$1"
+}
+three_points() { printf '0 0 0\n1 0 0\n0 1 1\n' | to_ply three.ply; }
+
 # The bundled rTwig cloud as an ASCII PLY (MeshLab's own reader), the AdTree cloud as it is (.xyz).
 input_for() {
   case $1 in
-    ply) local n; n=$(awk 'NF >= 3' "$data/tree_rtwig.txt" | wc -l)
-         { printf 'ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n' "$n"
-           awk 'NF >= 3 {print $1, $2, $3}' "$data/tree_rtwig.txt"; } > cloud.ply
-         echo cloud.ply ;;
+    ply) awk 'NF >= 3 {print $1, $2, $3}' "$data/tree_rtwig.txt" | to_ply cloud.ply; echo cloud.ply ;;
     xyz) cp "$data/tree_adtree1.xyz" cloud.xyz; echo cloud.xyz ;;
   esac
 }
@@ -55,9 +61,8 @@ case $case_name in
     "$checker" mesh "$out" "$cloud"
     ;;
   bad-input)
-    header='ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n'
-    printf "$header" 0 > empty.ply
-    { printf "$header" 3; printf '0 0 0\n1 0 0\n0 1 1\n'; } > three.ply
+    to_ply empty.ply < /dev/null
+    three_points
     for script in tree_skeleton tree_mesh; do
       for cloud in empty three; do
         rc=0; run -i $cloud.ply -o out.obj -s "$scripts/$script.mlx" || rc=$?
@@ -73,8 +78,7 @@ case $case_name in
     # In the GUI: each filter on a 3-point layer shows MeshLab's "Filter Failure" message, and after
     # it is dismissed MeshLab is still running.
     command -v xdotool >/dev/null || { echo "xdotool is missing (Debian package xdotool)" >&2; exit 1; }
-    header='ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n'
-    { printf "$header" 3; printf '0 0 0\n1 0 0\n0 1 1\n'; } > three.ply
+    three_points
     here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
     cat > session.sh <<SESSION
 set -euo pipefail
