@@ -16,4 +16,23 @@ inline double point_segment_distance(const Eigen::Vector3d& p, const Eigen::Vect
   return (p - (a + t * ab)).norm();
 }
 
+/// Shortest distance between the segments [a, b] and [c, d] (either may be a point).
+inline double segment_segment_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                                       const Eigen::Vector3d& d) {
+  const Eigen::Vector3d u = b - a, v = d - c, w = a - c;
+  const double uu = u.squaredNorm(), vv = v.squaredNorm(), uv = u.dot(v), uw = u.dot(w), vw = v.dot(w);
+  const double denom = uu * vv - uv * uv;
+  // Nearest points of the two lines, clamped to the first segment; parallel (or point) segments
+  // start from a, and the end checks below cover the rest.
+  double s = denom > 1e-12 * uu * vv ? std::clamp((uv * vw - vv * uw) / denom, 0.0, 1.0) : 0.0;
+  double t = vv > 0.0 ? (uv * s + vw) / vv : 0.0;
+  if (t < 0.0 || t > 1.0) {  // the second segment's end is nearest: the first segment's nearest point to it
+    t = std::clamp(t, 0.0, 1.0);
+    s = uu > 0.0 ? std::clamp((uv * t - uw) / uu, 0.0, 1.0) : 0.0;
+  }
+  const double best = (a + s * u - (c + t * v)).norm();
+  return std::min({best, point_segment_distance(a, c, d), point_segment_distance(b, c, d),
+                   point_segment_distance(c, a, b), point_segment_distance(d, a, b)});
+}
+
 }  // namespace treeskel
