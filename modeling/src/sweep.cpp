@@ -7,7 +7,9 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/box_intersection_d.h>
 #include <CGAL/convex_hull_3.h>
+#include <CGAL/intersections.h>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -149,15 +151,34 @@ struct Attempt {
   std::size_t thinned = 0;     // branches thinned so that the joins at both their ends fit
   std::size_t dropped = 0;     // ... and left out when thinning did not do
   std::vector<NodeId> shrink;  // subtrees (by their top node) to thin, then try again
-  std::optional<TreeMesh> mesh;
+  // The surface as a triangle soup, in parts: a join's hull, a tube's band between two adjacent
+  // rings, its base cap or its tip cone. Parts that share a ring meet only at that ring (a ring's
+  // plane has its band on one side and the next band or the join on the other), so only parts that
+  // share no ring can cross.
+  std::vector<Vector3d> vertices;
+  std::vector<std::array<std::size_t, 3>> faces;
   std::vector<NodeId> face_owner;  // per face: top node of the branch or join that made it
   std::vector<double> owner_radius;  // per face: that branch's or join's radius
+  std::vector<std::size_t> face_part;  // per face: its part
+  std::vector<std::vector<std::size_t>> part_rings;  // per part: its rings (by their first vertex)
+  /// Per part: a segment the part lies within `radius` of (radius -1 for a join's hull).
+  struct Axis {
+    Vector3d a = Vector3d::Zero(), b = Vector3d::Zero();
+    double radius = -1.0;
+    std::ptrdiff_t tube = -1;  // the tube it belongs to (-1: a hull)
+  };
+  std::vector<Axis> part_axis;
+  std::vector<std::array<std::ptrdiff_t, 2>> tube_joins;  // per tube: its joins at either end (-1: none)
   std::size_t branches = 0, junctions = 0, merged_forks = 0;
 };
 
 class Builder {
  public:
-  Builder(const Skeleton& sk, const SweepOptions& o) : sk_(sk), o_(o), t_(build_chains(sk)) {}
+  /// Convex hulls of join points already computed: the points' coordinates, and the hull's
+  /// triangles as positions in that list (none when some point was not on the hull).
+  using HullCache = std::map<std::vector<double>, std::optional<std::vector<std::array<std::size_t, 3>>>>;
+
+  Builder(const Skeleton& sk, const SweepOptions& o, HullCache& hulls) : sk_(sk), o_(o), t_(build_chains(sk)), hulls_(&hulls) {}
 
   Attempt run() {
     const auto& g = sk_.graph;
@@ -488,13 +509,35 @@ class Builder {
     return true;
   }
 
+  /// A tube's rings, from the first (at a join or the base) to the last (at a join or before the tip).
+  struct Tube {
+    std::size_t chain = 0;
+    std::vector<Ring> rings;
+    bool base = false, tip = false;  // first ring capped flat; last ring closed by a cone
+    std::size_t first_vertex = 0, last_vertex = 0;  // join ring vertices (when not base / tip)
+    std::ptrdiff_t start_join = -1, end_join = -1;  // index of the join at either end
+    double apex_height = 0.0;
+  };
+  /// A join's rings (one per arm) and the vertices they were given.
+  struct Join {
+    std::vector<Ring> rings;
+    std::vector<std::size_t> first_vertex;
+    std::vector<std::pair<Vector3d, std::size_t>> apex;
+    NodeId top = 0;
+    double radius = 0.0;
+  };
+
   void build(UnionFind& uf, Attempt& attempt) {
-    std::vector<Vector3d> vertices;
-    std::vector<std::array<std::size_t, 3>> faces;
+    std::vector<Vector3d>& vertices = attempt.vertices;
     auto add_face = [&](std::size_t a, std::size_t b, std::size_t c, NodeId owner, double radius) {
-      faces.push_back({a, b, c});
+      attempt.faces.push_back({a, b, c});
       attempt.face_owner.push_back(owner);
       attempt.owner_radius.push_back(radius);
+      attempt.face_part.push_back(attempt.part_rings.size() - 1);
+    };
+    auto begin_part = [&](std::vector<std::size_t> rings, Attempt::Axis axis) {
+      attempt.part_rings.push_back(std::move(rings));
+      attempt.part_axis.push_back(axis);
     };
     auto add_ring = [&](const Ring& ring) {
       const std::size_t first = vertices.size();
@@ -506,36 +549,35 @@ class Builder {
       double arc;
       std::size_t first_vertex;
       Ring ring;
+      std::size_t join;
     };
     std::map<std::pair<std::size_t, bool>, JoinRing> join_ring;
+    std::vector<Join> joins;
     for (auto& [id, cl] : clusters_) {
       if (cl.arms.empty()) continue;  // a fork inside a branch that was left out
       ++attempt.junctions;
-      NodeId top = cl.nodes.front();
-      double radius = 0.0;
-      std::vector<std::size_t> first_vertex;
-      std::vector<Ring> rings;
+      Join join;
+      join.top = cl.nodes.front();
       for (const auto& arm : cl.arms) {
         const Polyline& pl = lines_[arm.chain];
         const double arc = arm.forward ? arm.d : pl.length() - arm.d;
         const Ring ring = arm_ring(arm, arm.d).first;
-        rings.push_back(ring);
-        first_vertex.push_back(add_ring(ring));
-        join_ring[{arm.chain, arm.forward}] = {arc, first_vertex.back(), ring};
-        radius = std::max(radius, ring.radius);
-        if (!arm.forward) top = t_.chains[arm.chain].nodes.back();
+        join.rings.push_back(ring);
+        join.first_vertex.push_back(add_ring(ring));
+        join_ring[{arm.chain, arm.forward}] = {arc, join.first_vertex.back(), ring, joins.size()};
+        join.radius = std::max(join.radius, ring.radius);
+        if (!arm.forward) join.top = t_.chains[arm.chain].nodes.back();
       }
-      if (!cl.arms.empty() && std::none_of(cl.arms.begin(), cl.arms.end(), [](const Arm& a) { return !a.forward; }))
-        top = sk_.root;
-      std::vector<std::pair<Vector3d, std::size_t>> apex;
+      if (std::none_of(cl.arms.begin(), cl.arms.end(), [](const Arm& a) { return !a.forward; })) join.top = sk_.root;
       if (cl.arms.size() == 1) {  // every other arm left inside: a cone closes the branch
         const auto [ring, outward] = arm_ring(cl.arms.front(), cl.arms.front().d);
         vertices.push_back(ring.centre - outward * std::max(0.25 * ring.radius, cl.arms.front().d));
-        apex.emplace_back(vertices.back(), vertices.size() - 1);
+        join.apex.emplace_back(vertices.back(), vertices.size() - 1);
       }
-      hull_faces(rings, first_vertex, apex, top, radius, add_face, attempt);
+      joins.push_back(std::move(join));
     }
     // Tubes.
+    std::vector<Tube> tubes;
     for (std::size_t c = 0; c < t_.chains.size(); ++c) {
       const auto& chain = t_.chains[c];
       const NodeId a = chain.nodes.front(), b = chain.nodes.back();
@@ -544,41 +586,39 @@ class Builder {
       ++attempt.branches;
       const Polyline& pl = lines_[c];
       const int sides = sides_[c];
-      const NodeId owner = chain_top(c);
       const double margin_scale = 0.01;
+      Tube tube;
+      tube.chain = c;
       // First ring: at the join, or at the root with a flat base cap.
       double s0 = 0.0;
-      std::size_t first_vertex = 0;
       Ring first;
       if (is_junction_[a]) {
         const JoinRing& j = join_ring.at({c, true});
         s0 = j.arc;
-        first_vertex = j.first_vertex;
+        tube.first_vertex = j.first_vertex;
+        tube.start_join = static_cast<std::ptrdiff_t>(j.join);
         first = j.ring;
       } else {
+        tube.base = true;
         first = ring_at(pl, 0.0, sides);
-        first_vertex = add_ring(first);
-        vertices.push_back(first.centre);
-        const std::size_t centre = vertices.size() - 1;
-        for (int k = 0; k < sides; ++k)
-          add_face(first_vertex + (k + 1) % sides, first_vertex + k, centre, owner, first.radius);
       }
       // Last ring: at the join, or before the tip.
       double s1;
-      std::size_t last_vertex = 0;
       Ring last;
-      const bool tip = !is_junction_[b];
-      if (!tip) {
+      tube.tip = !is_junction_[b];
+      if (!tube.tip) {
         const JoinRing& j = join_ring.at({c, false});
         s1 = j.arc;
-        last_vertex = j.first_vertex;
+        tube.last_vertex = j.first_vertex;
+        tube.end_join = static_cast<std::ptrdiff_t>(j.join);
         last = j.ring;
       } else {
         s1 = tip_arc(pl, s0);
         last = ring_at(pl, s1, sides);
       }
       // Rings in between, wherever the branch has run or turned enough, none crossing the last.
-      std::vector<Ring> rings{first};
+      std::vector<Ring>& rings = tube.rings;
+      rings.push_back(first);
       for (std::size_t i = 1; i + 1 < pl.p.size(); ++i) {
         if (pl.s[i] <= s0 || pl.s[i] >= s1) continue;
         const Ring candidate = ring_at(pl, pl.s[i], sides);
@@ -593,57 +633,56 @@ class Builder {
       while (rings.size() > 1 && !compatible(rings.back(), last, margin_scale * std::max(rings.back().radius, last.radius) + eps_))
         rings.pop_back();
       if (!compatible(rings.back(), last, eps_)) {
-        attempt.shrink.push_back(owner);
+        attempt.shrink.push_back(chain_top(c));
         continue;
       }
-      std::vector<std::size_t> ids{first_vertex};
-      for (std::size_t i = 1; i < rings.size(); ++i) ids.push_back(add_ring(rings[i]));
-      ids.push_back(tip ? add_ring(last) : last_vertex);
-      for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
-        const std::size_t p = ids[i], q = ids[i + 1];
-        for (int k = 0; k < sides; ++k) {
-          const std::size_t k1 = (k + 1) % sides;
-          add_face(p + k, p + k1, q + k1, owner, first.radius);
-          add_face(p + k, q + k1, q + k, owner, first.radius);
-        }
-      }
-      if (tip) {
-        const double height = std::max((pl.p.back() - last.centre).dot(last.normal), 0.25 * last.radius);
-        vertices.push_back(last.centre + height * last.normal);
-        const std::size_t apex = vertices.size() - 1, q = ids.back();
-        for (int k = 0; k < sides; ++k) add_face(q + k, q + (k + 1) % sides, apex, owner, first.radius);
-      }
+      rings.push_back(last);
+      if (tube.tip) tube.apex_height = std::max((pl.p.back() - last.centre).dot(last.normal), 0.25 * last.radius);
+      tubes.push_back(std::move(tube));
     }
     if (!attempt.shrink.empty()) return;
-    TreeMesh mesh;
-    std::vector<TreeMesh::VertexHandle> handles;
-    handles.reserve(vertices.size());
-    for (const auto& v : vertices) handles.push_back(mesh.add_vertex(TreeMesh::Point(v.x(), v.y(), v.z())));
-    std::vector<NodeId> owners;
-    std::vector<double> radii;
-    for (std::size_t f = 0; f < faces.size(); ++f) {
-      const auto h = mesh.add_face(handles[faces[f][0]], handles[faces[f][1]], handles[faces[f][2]]);
-      if (!h.is_valid()) {
-        attempt.shrink.push_back(attempt.face_owner[f]);
-        continue;
-      }
-      owners.push_back(attempt.face_owner[f]);
-      radii.push_back(attempt.owner_radius[f]);
+    for (const Join& join : joins) {
+      begin_part(join.first_vertex, {});
+      hull_faces(join.rings, join.first_vertex, join.apex, join.top, join.radius, add_face, attempt);
     }
-    attempt.face_owner = std::move(owners);
-    attempt.owner_radius = std::move(radii);
-    // Vertices no face uses (none expected) would make the mesh look open to some tools.
-    mesh.request_vertex_status();
-    mesh.request_edge_status();
-    mesh.request_face_status();
-    bool isolated = false;
-    for (auto v : mesh.vertices())
-      if (mesh.is_isolated(v)) {
-        mesh.delete_vertex(v, false);
-        isolated = true;
+    for (const Tube& tube : tubes) {
+      const std::ptrdiff_t tube_id = static_cast<std::ptrdiff_t>(attempt.tube_joins.size());
+      attempt.tube_joins.push_back({tube.start_join, tube.end_join});
+      const int sides = tube.rings.front().sides;
+      const NodeId owner = chain_top(tube.chain);
+      const double radius = tube.rings.front().radius;
+      std::vector<std::size_t> ids;
+      if (tube.base) {
+        ids.push_back(add_ring(tube.rings.front()));
+        begin_part({ids[0]}, {tube.rings.front().centre, tube.rings.front().centre, radius, tube_id});
+        vertices.push_back(tube.rings.front().centre);
+        const std::size_t centre = vertices.size() - 1;
+        for (int k = 0; k < sides; ++k) add_face(ids[0] + (k + 1) % sides, ids[0] + k, centre, owner, radius);
+      } else {
+        ids.push_back(tube.first_vertex);
       }
-    if (isolated) mesh.garbage_collection();
-    attempt.mesh = std::move(mesh);
+      for (std::size_t i = 1; i + 1 < tube.rings.size(); ++i) ids.push_back(add_ring(tube.rings[i]));
+      ids.push_back(tube.tip ? add_ring(tube.rings.back()) : tube.last_vertex);
+      for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
+        const std::size_t p = ids[i], q = ids[i + 1];
+        // A band lies in the convex hull of its two rings: within the larger ring's radius of the
+        // segment between their centres.
+        begin_part({p, q}, {tube.rings[i].centre, tube.rings[i + 1].centre,
+                            std::max(tube.rings[i].radius, tube.rings[i + 1].radius), tube_id});
+        for (int k = 0; k < sides; ++k) {
+          const std::size_t k1 = (k + 1) % sides;
+          add_face(p + k, p + k1, q + k1, owner, radius);
+          add_face(p + k, q + k1, q + k, owner, radius);
+        }
+      }
+      if (tube.tip) {
+        const Ring& last = tube.rings.back();
+        vertices.push_back(last.centre + tube.apex_height * last.normal);
+        const std::size_t apex = vertices.size() - 1, q = ids.back();
+        begin_part({q}, {last.centre, vertices.back(), last.radius, tube_id});
+        for (int k = 0; k < sides; ++k) add_face(q + k, q + (k + 1) % sides, apex, owner, radius);
+      }
+    }
   }
 
   template <class AddFace>
@@ -651,37 +690,58 @@ class Builder {
                   const std::vector<std::pair<Vector3d, std::size_t>>& extra, NodeId top, double radius,
                   AddFace& add_face, Attempt& attempt) const {
     using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-    std::vector<K::Point_3> points;
-    std::map<std::array<double, 3>, std::pair<std::size_t, std::size_t>> index;  // point -> (ring, vertex id)
+    // The join's points, and each one's vertex id and ring.
+    std::vector<double> key;
+    std::vector<std::size_t> id, ring_of;
     for (std::size_t i = 0; i < rings.size(); ++i)
       for (int k = 0; k < rings[i].sides; ++k) {
         const Vector3d p = rings[i].vertex(k);
-        points.emplace_back(p.x(), p.y(), p.z());
-        index[{p.x(), p.y(), p.z()}] = {i, first_vertex[i] + static_cast<std::size_t>(k)};
+        key.insert(key.end(), {p.x(), p.y(), p.z()});
+        id.push_back(first_vertex[i] + static_cast<std::size_t>(k));
+        ring_of.push_back(i);
       }
     for (std::size_t i = 0; i < extra.size(); ++i) {
       const Vector3d& p = extra[i].first;
-      points.emplace_back(p.x(), p.y(), p.z());
-      index[{p.x(), p.y(), p.z()}] = {rings.size() + i, extra[i].second};
+      key.insert(key.end(), {p.x(), p.y(), p.z()});
+      id.push_back(extra[i].second);
+      ring_of.push_back(rings.size() + i);
     }
-    CGAL::Surface_mesh<K::Point_3> hull;
-    CGAL::convex_hull_3(points.begin(), points.end(), hull);
-    if (hull.number_of_vertices() != points.size()) {
+    // Repair rounds leave most joins as they were: their hulls are computed once.
+    auto cached = hulls_->find(key);
+    if (cached == hulls_->end()) {
+      std::vector<K::Point_3> points;
+      std::map<std::array<double, 3>, std::size_t> index;  // point -> its position in `points`
+      for (std::size_t i = 0; i < id.size(); ++i) {
+        points.emplace_back(key[3 * i], key[3 * i + 1], key[3 * i + 2]);
+        index[{key[3 * i], key[3 * i + 1], key[3 * i + 2]}] = i;
+      }
+      CGAL::Surface_mesh<K::Point_3> hull;
+      CGAL::convex_hull_3(points.begin(), points.end(), hull);
+      std::optional<std::vector<std::array<std::size_t, 3>>> corners;
+      if (hull.number_of_vertices() == points.size()) {
+        corners.emplace();
+        for (auto f : hull.faces()) {
+          std::array<std::size_t, 3> corner{};
+          int k = 0;
+          for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
+            if (k == 3) break;
+            const auto& p = hull.point(v);
+            corner[static_cast<std::size_t>(k++)] = index.at({p.x(), p.y(), p.z()});
+          }
+          corners->push_back(corner);
+        }
+      }
+      cached = hulls_->emplace(std::move(key), std::move(corners)).first;
+    }
+    if (!cached->second) {  // points inside the hull: the rings do not fit
       attempt.shrink.push_back(top);
       return;
     }
     std::vector<std::array<std::size_t, 3>> triangles;
-    for (auto f : hull.faces()) {
-      std::array<std::pair<std::size_t, std::size_t>, 3> corner;
-      int k = 0;
-      for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
-        if (k == 3) break;
-        const auto& p = hull.point(v);
-        corner[static_cast<std::size_t>(k++)] = index.at({p.x(), p.y(), p.z()});
-      }
-      if (corner[0].first == corner[1].first && corner[1].first == corner[2].first) continue;  // a ring's own face
+    for (const auto& corner : *cached->second) {
+      if (ring_of[corner[0]] == ring_of[corner[1]] && ring_of[corner[1]] == ring_of[corner[2]]) continue;  // a ring's own face
       // Smallest vertex first, orientation kept: the hull's own face order is not reproducible.
-      std::array<std::size_t, 3> tri{corner[0].second, corner[1].second, corner[2].second};
+      std::array<std::size_t, 3> tri{id[corner[0]], id[corner[1]], id[corner[2]]};
       std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
       triangles.push_back(tri);
     }
@@ -692,6 +752,7 @@ class Builder {
   const Skeleton& sk_;
   const SweepOptions& o_;
   ChainTree t_;
+  HullCache* hulls_;
   double eps_ = 0.0;
   std::vector<Polyline> lines_;
   std::vector<int> sides_;
@@ -703,6 +764,133 @@ class Builder {
   std::vector<std::array<double, 2>> ring_d_;  // per chain: ring distance from its start's join, its end's join
   std::map<std::size_t, Cluster> clusters_;
 };
+
+/// The attempt's triangles as one OpenMesh mesh; faces OpenMesh refuses (a non-manifold spot) ask
+/// for their branch to be thinned instead (`attempt.shrink`), and the result is then empty.
+std::optional<TreeMesh> assemble(Attempt& attempt) {
+  const auto& vertices = attempt.vertices;
+  const auto& faces = attempt.faces;
+  TreeMesh mesh;
+  std::vector<TreeMesh::VertexHandle> handles;
+  handles.reserve(vertices.size());
+  for (const auto& v : vertices) handles.push_back(mesh.add_vertex(TreeMesh::Point(v.x(), v.y(), v.z())));
+  std::vector<NodeId> owners;
+  std::vector<double> radii;
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const auto h = mesh.add_face(handles[faces[f][0]], handles[faces[f][1]], handles[faces[f][2]]);
+    if (!h.is_valid()) {
+      attempt.shrink.push_back(attempt.face_owner[f]);
+      continue;
+    }
+    owners.push_back(attempt.face_owner[f]);
+    radii.push_back(attempt.owner_radius[f]);
+  }
+  attempt.face_owner = std::move(owners);
+  attempt.owner_radius = std::move(radii);
+  attempt.face_part.clear();  // no longer in step with the faces
+  // Vertices no face uses (none expected) would make the mesh look open to some tools.
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_face_status();
+  bool isolated = false;
+  for (auto v : mesh.vertices())
+    if (mesh.is_isolated(v)) {
+      mesh.delete_vertex(v, false);
+      isolated = true;
+    }
+  if (isolated) mesh.garbage_collection();
+  if (!attempt.shrink.empty()) return std::nullopt;
+  return mesh;
+}
+
+/// Pairs of faces, one pair for each two parts of the attempt that cross (see `Attempt`): the parts'
+/// boxes are matched first, then the faces of two overlapping parts that share no ring are tested
+/// exactly against each other. Parts that share a ring are not tested: they meet only at it.
+std::vector<std::pair<std::size_t, std::size_t>> crossing_parts(const Attempt& attempt) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t, CGAL::Box_intersection_d::ID_EXPLICIT>;
+  const auto& faces = attempt.faces;
+  const std::size_t parts = attempt.part_rings.size();
+  std::vector<Eigen::AlignedBox3d> face_box(faces.size()), part_box(parts);
+  std::vector<std::vector<std::size_t>> part_faces(parts);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    for (std::size_t v : faces[f]) face_box[f].extend(attempt.vertices[v]);
+    part_box[attempt.face_part[f]].extend(face_box[f]);
+    part_faces[attempt.face_part[f]].push_back(f);
+  }
+  std::vector<Box> boxes;
+  boxes.reserve(parts);
+  for (std::size_t i = 0; i < parts; ++i) {
+    if (part_box[i].isEmpty()) continue;
+    double lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = part_box[i].min()[d];
+      hi[d] = part_box[i].max()[d];
+    }
+    boxes.emplace_back(lo, hi, i);
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> candidates;
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
+    const auto& a = attempt.part_rings[x.info()];
+    const auto& b = attempt.part_rings[y.info()];
+    for (std::size_t ring : a)
+      if (std::find(b.begin(), b.end(), ring) != b.end()) return;
+    candidates.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
+  });
+  std::sort(candidates.begin(), candidates.end());
+  auto triangle = [&](std::size_t f) {
+    const auto& v = attempt.vertices;
+    auto point = [&](std::size_t i) { return K::Point_3(v[i].x(), v[i].y(), v[i].z()); };
+    return K::Triangle_3(point(faces[f][0]), point(faces[f][1]), point(faces[f][2]));
+  };
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  std::vector<std::size_t> near_a, near_b;
+  for (const auto& [pa, pb] : candidates) {
+    near_a.clear();
+    near_b.clear();
+    for (std::size_t f : part_faces[pa])
+      if (face_box[f].intersects(part_box[pb])) near_a.push_back(f);
+    for (std::size_t f : part_faces[pb])
+      if (face_box[f].intersects(part_box[pa])) near_b.push_back(f);
+    bool found = false;
+    for (std::size_t fa : near_a) {
+      for (std::size_t fb : near_b)
+        if (face_box[fa].intersects(face_box[fb]) && CGAL::do_intersect(triangle(fa), triangle(fb))) {
+          out.emplace_back(fa, fb);
+          found = true;
+          break;
+        }
+      if (found) break;
+    }
+  }
+  return out;
+}
+
+/// Factor by which part `x`'s radii must shrink to clear part `y`, from their axes (a part lies
+/// within its radius of its axis): 0.97 (d - r_y) / r_x, at most 0.95; repair_shrink-like 0.7 for a
+/// hull, which has no axis. Two tubes that share no join are compared over their whole length
+/// (where one runs inside the other, only the ends of that stretch cross the other's surface).
+double clearing_factor(const Attempt& attempt, std::size_t x, std::size_t y) {
+  const auto& ax = attempt.part_axis[x];
+  const auto& ay = attempt.part_axis[y];
+  if (ax.tube < 0 || ay.tube < 0) return 0.7;
+  auto factor = [](const Attempt::Axis& p, const Attempt::Axis& q) {
+    return 0.97 * (segment_segment_distance(p.a, p.b, q.a, q.b) - q.radius) / p.radius;
+  };
+  double f = std::min(factor(ax, ay), 0.95);
+  const auto& jx = attempt.tube_joins[static_cast<std::size_t>(ax.tube)];
+  const auto& jy = attempt.tube_joins[static_cast<std::size_t>(ay.tube)];
+  for (const std::ptrdiff_t j : jx)
+    if (j >= 0 && (j == jy[0] || j == jy[1])) return f;
+  std::vector<const Attempt::Axis*> px, py;
+  for (const auto& axis : attempt.part_axis) {
+    if (axis.tube == ax.tube) px.push_back(&axis);
+    if (axis.tube == ay.tube) py.push_back(&axis);
+  }
+  for (const auto* p : px)
+    for (const auto* q : py) f = std::min(f, factor(*p, *q));
+  return f;
+}
 
 /// Nodes of the subtree hanging from `top` (with `top`).
 std::vector<NodeId> subtree(const std::vector<std::vector<NodeId>>& children, NodeId top) {
@@ -817,6 +1005,7 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
   std::vector<bool> keep(n, true);
   std::vector<double> scale(n, 1.0);
   std::vector<int> shrinks(n, 0);
+  std::vector<double> own_scale(n, 1.0);  // per subtree top: the thinning applied to it
   auto drop = [&](NodeId top) {
     for (NodeId v : subtree(tree.children, top)) keep[v] = false;
   };
@@ -840,6 +1029,7 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
   }
   for (auto [it, end] = boost::edges(g); it != end; ++it) boost::add_edge(boost::source(*it, g), boost::target(*it, g), shape.graph);
 
+  Builder::HullCache hulls;
   const int max_attempts = 4 * static_cast<int>(n) + 50;
   std::optional<TreeMesh> best;
   for (int attempt_no = 0; attempt_no < max_attempts; ++attempt_no) {
@@ -862,7 +1052,7 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
     }
 
     ++st.attempts;
-    Builder builder(pruned, options);
+    Builder builder(pruned, options, hulls);
     Attempt a = builder.run();
     st.branches = a.branches;
     st.junctions = a.junctions;
@@ -870,55 +1060,90 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
     st.twigs_absorbed = a.absorbed;
     st.joins_thinned = a.thinned;
     st.joins_dropped = a.dropped;
-    // Thins a subtree, up to max_shrinks times (twice that for a limb), then leaves it out (a limb
-    // is down to 0.7^6 = 12% of its radius by then); false for the trunk, which may not go.
-    auto shrink_or_drop = [&](NodeId top) {
+    // Thins a subtree by `factor`, down to repair_shrink^max_shrinks of its radius (twice that power
+    // for a limb), then leaves it out (a limb is down to 0.7^6 = 12% of its radius by then); false
+    // when nothing changed (the trunk, which may not go, at its floor).
+    auto thin_or_drop = [&](NodeId top, double factor) {
       const bool limb = g[top].radius >= options.max_drop_radius * max_radius;
       const int budget = (limb && top != skeleton.root ? 2 : 1) * options.max_shrinks;
-      if (shrinks[top] < budget) {
-        for (NodeId v : subtree(tree.children, top)) scale[v] *= options.repair_shrink;
-        ++shrinks[top];
-        ++st.repaired_shrunk;
-        return true;
+      const double floor = std::pow(options.repair_shrink, budget);
+      const bool at_floor = own_scale[top] <= floor * (1.0 + 1e-9);
+      if (own_scale[top] * factor < floor * (1.0 - 1e-9)) {
+        // A twig goes at once; a limb is first thinned to its floor.
+        if (top != skeleton.root && (!limb || at_floor)) {
+          drop(top);
+          ++st.repaired_dropped;
+          return true;
+        }
+        if (at_floor) return false;
+        factor = floor / own_scale[top];
       }
-      if (top == skeleton.root) return false;
-      drop(top);
-      ++st.repaired_dropped;
+      for (NodeId v : subtree(tree.children, top)) scale[v] *= factor;
+      own_scale[top] *= factor;
+      ++shrinks[top];
+      ++st.repaired_shrunk;
       return true;
     };
-    if (!a.shrink.empty()) {
+    auto shrink_or_drop = [&](NodeId top) { return thin_or_drop(top, options.repair_shrink); };
+    // Parts the mesh could not be built with (ids of `pruned`) are thinned, then left out.
+    auto shrink_failed = [&](const std::vector<NodeId>& failed) {
       std::set<NodeId> tops;
-      for (NodeId v : a.shrink) tops.insert(old_id[v]);
+      for (NodeId v : failed) tops.insert(old_id[v]);
       bool any = false;
       for (NodeId top : tops) any |= shrink_or_drop(top);
       if (!any) throw Error("could not sweep the trunk: it turns too sharply for its radius");
+    };
+    // One round of repair: of each two crossing faces, the thinner part is thinned, or the other one
+    // once thinning the thinner twice has not cleared it. With `parts` (faces of the triangle soup),
+    // by what the parts' axes say clears them; else by repair_shrink. False when nothing changed.
+    auto repair = [&](const std::vector<std::pair<std::size_t, std::size_t>>& pairs, bool parts) {
+      ++st.repair_rounds;
+      std::map<NodeId, double> factor;
+      for (const auto& [f1, f2] : pairs) {
+        const bool first_thinner = a.owner_radius[f1] <= a.owner_radius[f2];
+        const NodeId thin = old_id[a.face_owner[first_thinner ? f1 : f2]];
+        const NodeId thick = old_id[a.face_owner[first_thinner ? f2 : f1]];
+        const bool swap = shrinks[thin] >= 2 && thick != skeleton.root && shrinks[thick] < shrinks[thin];
+        double f = options.repair_shrink;
+        if (parts)
+          f = std::max(clearing_factor(a, a.face_part[first_thinner != swap ? f1 : f2], a.face_part[first_thinner != swap ? f2 : f1]),
+                       options.repair_shrink * options.repair_shrink);
+        const auto [it, fresh] = factor.emplace(swap ? thick : thin, f);
+        if (!fresh) it->second = std::min(it->second, f);
+      }
+      bool any = false;
+      for (const auto& [top, f] : factor)
+        if (keep[top]) any |= thin_or_drop(top, f);
+      return any;
+    };
+    if (!a.shrink.empty()) {
+      shrink_failed(a.shrink);
       continue;
     }
-    TreeMesh mesh = std::move(*a.mesh);
-    if (!options.repair || st.repair_rounds >= options.repair_rounds) {
-      if (options.repair) st.self_intersections = self_intersecting_faces(mesh).size();
+    // Crossings are found and repaired on the triangles first (cheap: only parts whose boxes overlap
+    // are tested); CGAL's test of the whole mesh then confirms the result, or starts another round.
+    const bool may_repair = options.repair && st.repair_rounds < options.repair_rounds;
+    if (may_repair) {
+      const auto crossing = crossing_parts(a);
+      if (!crossing.empty() && repair(crossing, true)) continue;
+    }
+    std::optional<TreeMesh> mesh = assemble(a);
+    if (!mesh) {
+      shrink_failed(a.shrink);
+      continue;
+    }
+    if (!options.repair) {
       best = std::move(mesh);
       break;
     }
-    const auto pairs = self_intersecting_faces(mesh);
+    const auto pairs = self_intersecting_faces(*mesh);
     st.self_intersections = pairs.size();
-    if (pairs.empty()) {
+    if (pairs.empty() || !may_repair) {
       best = std::move(mesh);
       break;
     }
-    ++st.repair_rounds;
-    std::set<NodeId> tops;
-    for (const auto& [f1, f2] : pairs) {
-      const bool first_thinner = a.owner_radius[f1] <= a.owner_radius[f2];
-      const NodeId thin = old_id[a.face_owner[first_thinner ? f1 : f2]];
-      const NodeId thick = old_id[a.face_owner[first_thinner ? f2 : f1]];
-      // The thinner part is thinned first; if that has not cleared the crossing, the other one.
-      tops.insert(shrinks[thin] >= 2 && thick != skeleton.root && shrinks[thick] < shrinks[thin] ? thick : thin);
-    }
-    bool any = false;
-    for (NodeId top : tops)
-      if (keep[top]) any |= shrink_or_drop(top);
-    if (!any) {
+    ++st.late_repair_rounds;
+    if (!repair(pairs, false)) {
       best = std::move(mesh);
       break;
     }
