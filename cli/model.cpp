@@ -41,6 +41,7 @@ struct Settings {
   modeling::RadiusOptions radii;
   modeling::SweepOptions sweep;
   double breast_height = 1.3;
+  bool dbh_from_model = false;
 };
 
 /// A saved skeleton rather than a cloud: .json, or a PLY with an edge element.
@@ -60,6 +61,9 @@ nlohmann::ordered_json measurements_json(const modeling::TreeMeasurements& m) {
   nlohmann::ordered_json j;
   j["height"] = m.height;
   j["dbh"] = m.dbh ? nlohmann::ordered_json(*m.dbh) : nlohmann::ordered_json(nullptr);
+  j["dbh_source"] = m.dbh_source == modeling::DbhSource::points  ? nlohmann::ordered_json("points")
+                    : m.dbh_source == modeling::DbhSource::model ? nlohmann::ordered_json("model")
+                                                                 : nlohmann::ordered_json(nullptr);
   j["breast_height"] = m.breast_height;
   j["volume"] = m.volume;
   j["length"] = m.length;
@@ -126,6 +130,7 @@ int run(Settings& s) {
   modeling::MeasureOptions mo;
   mo.up = up;
   mo.breast_height = s.breast_height;
+  mo.dbh_from_points = !s.dbh_from_model;
   const modeling::TreeMeasurements measurements = modeling::measure_tree(skeleton, cloud ? &*cloud : nullptr, mo);
 
   progress("writing " + fs::path(s.output).filename().string(), 0.95);
@@ -179,7 +184,9 @@ int run(Settings& s) {
                                            : std::string("closed, manifold; self-intersections not checked"))
               << "), height "
               << measurements.height << ", DBH ";
-    if (measurements.dbh) std::cout << *measurements.dbh;
+    if (measurements.dbh)
+      std::cout << *measurements.dbh
+                << (measurements.dbh_source == modeling::DbhSource::points ? " (fitted to the points)" : " (from the model)");
     else std::cout << "n/a (shorter than " << s.breast_height << ")";
     std::cout << ", wood volume " << measurements.volume << ", " << format_seconds(seconds) << " -> " << s.output << '\n';
   }
@@ -225,6 +232,10 @@ Command add_model(CLI::App& app) {
       ->default_val(w.min_radius)->check(CLI::NonNegativeNumber)->group(g);
   c->add_option("--breast-height", s->breast_height, "Height above the base where the DBH is measured (1.3 for metres)")
       ->default_val(s->breast_height)->check(CLI::PositiveNumber)->group(g);
+  c->add_flag("--dbh-from-model", s->dbh_from_model,
+              "Take the DBH from the model's radius at breast height, not from a circle fitted to the points of "
+              "a slice there (the default; the model's radius is the fallback when that circle is unreliable)")
+      ->group(g);
   c->add_flag("--no-repair", [s](std::int64_t) { s->sweep.repair = false; },
               "Skip the self-intersection test and repair (faster; the mesh may then cross itself)")->group(g);
   add_skeleton_options(*c, s->method);

@@ -28,16 +28,56 @@ Eigen::Vector3d branch_direction(const Skeleton& skeleton, NodeId v) {
   return d.norm() > 0.0 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero();
 }
 
-struct CircleFit {
-  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-  double radius = 0.0;
-  double rms = 0.0;       ///< rms distance of the points to the circle
-  double coverage = 0.0;  ///< angle covered by the points around the centre
-};
+/// Weighted median of `values`.
+double weighted_median(std::vector<std::pair<double, double>> value_weight) {
+  std::sort(value_weight.begin(), value_weight.end());
+  double total = 0.0;
+  for (const auto& [v, w] : value_weight) total += w;
+  double acc = 0.0;
+  for (const auto& [v, w] : value_weight) {
+    acc += w;
+    if (acc >= total / 2.0) return v;
+  }
+  return value_weight.back().first;
+}
 
-/// Algebraic (Kåsa) fit refined by Gauss-Newton on the geometric distances.
+/// Weighted least-squares non-increasing fit (pool adjacent violators).
+/// @pre every weight is positive.
+std::vector<double> non_increasing_fit(const std::vector<double>& y, const std::vector<double>& w) {
+  struct Block {
+    double value, weight;
+    std::size_t count;
+  };
+  std::vector<Block> blocks;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    blocks.push_back({y[i], w[i], 1});
+    while (blocks.size() >= 2 && blocks[blocks.size() - 2].value < blocks.back().value) {
+      const Block last = blocks.back();
+      blocks.pop_back();
+      Block& prev = blocks.back();
+      const double weight = prev.weight + last.weight;
+      prev = {(prev.value * prev.weight + last.value * last.weight) / weight, weight, prev.count + last.count};
+    }
+  }
+  std::vector<double> out;
+  out.reserve(y.size());
+  for (const auto& b : blocks) out.insert(out.end(), b.count, b.value);
+  return out;
+}
+
+}  // namespace
+
 CircleFit fit_circle(const std::vector<Eigen::Vector2d>& q) {
   CircleFit fit;
+  if (q.size() < 3) return fit;
+  {  // points on a line admit no circle
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto& p : q) mean += p / static_cast<double>(q.size());
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    for (const auto& p : q) scatter += (p - mean) * (p - mean).transpose();
+    const Eigen::Vector2d eig = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(scatter).eigenvalues();
+    if (!(eig[0] > 1e-12 * eig[1])) return fit;
+  }
   Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   for (const auto& p : q) {
@@ -86,45 +126,6 @@ CircleFit fit_circle(const std::vector<Eigen::Vector2d>& q) {
   fit.coverage = 2.0 * kPi - gap;
   return fit;
 }
-
-/// Weighted median of `values`.
-double weighted_median(std::vector<std::pair<double, double>> value_weight) {
-  std::sort(value_weight.begin(), value_weight.end());
-  double total = 0.0;
-  for (const auto& [v, w] : value_weight) total += w;
-  double acc = 0.0;
-  for (const auto& [v, w] : value_weight) {
-    acc += w;
-    if (acc >= total / 2.0) return v;
-  }
-  return value_weight.back().first;
-}
-
-/// Weighted least-squares non-increasing fit (pool adjacent violators).
-/// @pre every weight is positive.
-std::vector<double> non_increasing_fit(const std::vector<double>& y, const std::vector<double>& w) {
-  struct Block {
-    double value, weight;
-    std::size_t count;
-  };
-  std::vector<Block> blocks;
-  for (std::size_t i = 0; i < y.size(); ++i) {
-    blocks.push_back({y[i], w[i], 1});
-    while (blocks.size() >= 2 && blocks[blocks.size() - 2].value < blocks.back().value) {
-      const Block last = blocks.back();
-      blocks.pop_back();
-      Block& prev = blocks.back();
-      const double weight = prev.weight + last.weight;
-      prev = {(prev.value * prev.weight + last.value * last.weight) / weight, weight, prev.count + last.count};
-    }
-  }
-  std::vector<double> out;
-  out.reserve(y.size());
-  for (const auto& b : blocks) out.insert(out.end(), b.count, b.value);
-  return out;
-}
-
-}  // namespace
 
 std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, const PointCloud& cloud,
                                                   const RadiusOptions& options) {

@@ -209,7 +209,9 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
     summary << "treeskel: " << cloud.size() << " points -> " << skeleton.node_count() << " nodes -> "
             << check.faces << " triangles ("
             << (check.ok() ? (so.repair ? "closed, manifold, no self-intersection" : "closed, manifold") : check.problem())
-            << "); height " << format(m.height) << ", DBH " << (m.dbh ? format(*m.dbh) : std::string("n/a"))
+            << "); height " << format(m.height) << ", DBH "
+            << (!m.dbh ? std::string("n/a")
+                       : format(*m.dbh) + (m.dbh_source == modeling::DbhSource::points ? " (fitted to the points)" : " (from the model)"))
             << ", wood volume " << format(m.volume);
     if (stats.thin_left_out + stats.joins_dropped + stats.repaired_dropped > 0)
       summary << "; " << stats.thin_left_out + stats.joins_dropped + stats.repaired_dropped << " thin branches left out";

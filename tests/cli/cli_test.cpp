@@ -172,6 +172,7 @@ TEST(Cli, ModelTurnsTheExampleIntoAGlbWithReportAndQsm) {
   EXPECT_GT(j["mesh"]["volume"].get<double>(), 0.0);
   ASSERT_TRUE(j["measurements"].contains("dbh"));
   EXPECT_GT(j["measurements"]["dbh"].get<double>(), 0.0);  // the rTwig tree is 3.7 m tall
+  EXPECT_EQ(j["measurements"]["dbh_source"], "points");   // a circle fitted at breast height
   EXPECT_GT(j["measurements"]["height"].get<double>(), 3.0);
   std::ifstream csv(dir.path("qsm.csv"));
   std::string header;

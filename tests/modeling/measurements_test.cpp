@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 namespace treeskel::modeling {
 namespace {
@@ -51,6 +52,75 @@ TEST(MeasureTree, NoDbhOnATreeShorterThanBreastHeight) {
   MeasureOptions o;
   o.breast_height = 0.5;
   EXPECT_NEAR(*measure_tree(test::straight(1.0, 0.1, 10), nullptr, o).dbh, 0.2, 1e-12);
+}
+
+/// Points on a vertical cylinder of `radius` around (1, 2, z) from z = 0 to `height`, covering the
+/// angles [0, `arc`), with Gaussian noise of `noise` across the surface.
+PointCloud trunk_cloud(double radius, double height, double arc, double noise, std::size_t count) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> angle(0.0, arc), z(0.0, height);
+  std::normal_distribution<double> off(0.0, noise);
+  PointCloud cloud;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double a = angle(rng), r = radius + off(rng);
+    cloud.positions.emplace_back(1.0 + r * std::cos(a), 2.0 + r * std::sin(a), z(rng));
+  }
+  return cloud;
+}
+
+/// A skeleton along the cloud's axis (leaning by `lean` over its height), every radius `radius`.
+Skeleton trunk_skeleton(double radius, double height, double lean) {
+  Skeleton s;
+  SkeletonNode root;
+  root.position = Eigen::Vector3d(1, 2, 0);
+  root.radius = radius;
+  s.root = add_node(s, root);
+  test::add_run(s, s.root, Eigen::Vector3d(1 + lean, 2, height), radius, 30);
+  return s;
+}
+
+TEST(MeasureTree, DbhIsFittedToThePointsAtBreastHeight) {
+  // A model radius 50% too large, a trunk scanned from one side (200 degrees), 2 mm noise.
+  const PointCloud cloud = trunk_cloud(0.1, 3.0, 3.5, 0.002, 6000);
+  const Skeleton s = trunk_skeleton(0.15, 3.0, 0.0);
+  const TreeMeasurements m = measure_tree(s, &cloud);
+  ASSERT_TRUE(m.dbh.has_value());
+  EXPECT_EQ(m.dbh_source, DbhSource::points);
+  EXPECT_NEAR(*m.dbh, 0.2, 0.004);
+  MeasureOptions model_only;
+  model_only.dbh_from_points = false;
+  const TreeMeasurements from_model = measure_tree(s, &cloud, model_only);
+  EXPECT_EQ(from_model.dbh_source, DbhSource::model);
+  EXPECT_NEAR(*from_model.dbh, 0.3, 1e-12);
+}
+
+TEST(MeasureTree, DbhSliceFollowsTheTrunkNotOneLeaningEdge) {
+  const PointCloud cloud = trunk_cloud(0.1, 3.0, 2.0 * kPi, 0.001, 6000);
+  Skeleton s = trunk_skeleton(0.1, 3.0, 0.0);
+  // The node at 1.4 is knocked 6 cm sideways: the edge through breast height (1.35 here) leans by
+  // about 30 degrees, and a slice across it would be an ellipse 15% wider than the trunk.
+  for (NodeId v = 0; v < s.node_count(); ++v)
+    if (std::abs(s[v].position.z() - 1.4) < 1e-9) s[v].position.x() += 0.06;
+  MeasureOptions o;
+  o.breast_height = 1.35;
+  const TreeMeasurements m = measure_tree(s, &cloud, o);
+  EXPECT_EQ(m.dbh_source, DbhSource::points);
+  EXPECT_NEAR(*m.dbh, 0.2, 0.004);
+}
+
+TEST(MeasureTree, DbhFallsBackToTheModelWithoutAReliableCircle) {
+  Skeleton s = trunk_skeleton(0.1, 3.0, 0.0);
+  // Too few points in the slice.
+  const PointCloud sparse = trunk_cloud(0.1, 3.0, 2.0 * kPi, 0.001, 30);
+  EXPECT_EQ(measure_tree(s, &sparse).dbh_source, DbhSource::model);
+  // Points on a 0.5 rad arc only.
+  const PointCloud narrow = trunk_cloud(0.1, 3.0, 0.5, 0.001, 6000);
+  const TreeMeasurements m = measure_tree(s, &narrow);
+  EXPECT_EQ(m.dbh_source, DbhSource::model);
+  EXPECT_NEAR(*m.dbh, 0.2, 1e-12);
+  // No cloud, no tree tall enough.
+  EXPECT_EQ(measure_tree(s, nullptr).dbh_source, DbhSource::model);
+  EXPECT_EQ(measure_tree(test::straight(1.0, 0.1, 10), &narrow).dbh_source, DbhSource::none);
 }
 
 }  // namespace

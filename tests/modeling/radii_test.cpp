@@ -30,6 +30,19 @@ void expect_pipe_model(const Skeleton& s, double e, double tolerance = 1e-6) {
   EXPECT_GT(forks, 0u);
 }
 
+TEST(FitCircle, ExactCircleFewPointsAndALine) {
+  std::vector<Eigen::Vector2d> q;
+  for (int k = 0; k < 7; ++k) q.emplace_back(3.0 + 2.0 * std::cos(0.4 * k), -1.0 + 2.0 * std::sin(0.4 * k));
+  const CircleFit fit = fit_circle(q);
+  EXPECT_NEAR(fit.radius, 2.0, 1e-9);
+  EXPECT_NEAR(fit.centre.x(), 3.0, 1e-9);
+  EXPECT_NEAR(fit.centre.y(), -1.0, 1e-9);
+  EXPECT_NEAR(fit.rms, 0.0, 1e-9);
+  EXPECT_NEAR(fit.coverage, 2.4, 1e-9);  // 7 points 0.4 rad apart
+  EXPECT_EQ(fit_circle({q[0], q[1]}).radius, 0.0);
+  EXPECT_EQ(fit_circle({Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), Eigen::Vector2d(2, 2), Eigen::Vector2d(3, 3)}).radius, 0.0);
+}
+
 TEST(MeasureNodeRadii, CircleFitRecoversAHalfScannedBranch) {
   // One scanner sees only the +x half of a branch of radius 0.1; the nodes sit off-axis toward
   // the scanned side, as L1-medians of such a half do.

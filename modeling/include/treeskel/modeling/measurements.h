@@ -19,7 +19,14 @@ struct MeasureOptions {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  ///< the direction the tree grows along
   /// Height of the DBH above the base, in the cloud's units (1.3 for a cloud in metres).
   double breast_height = 1.3;
+  /// With a cloud, the DBH is a circle fitted to the points of a slice across the trunk at breast
+  /// height, as a forester's tape would measure it; the model's radius there (which the pipe model's
+  /// taper smooths over the whole trunk) is the fallback when the slice gives no reliable circle.
+  bool dbh_from_points = true;
 };
+
+/// Where a DBH comes from.
+enum class DbhSource { none, points, model };
 
 /// One row of the cylinder table: a skeleton edge as a cylinder of the same volume as its frustum.
 struct QsmCylinder {
@@ -37,6 +44,7 @@ struct QsmCylinder {
 struct TreeMeasurements {
   double height = 0.0;          ///< extent along `up` from the base to the highest point
   std::optional<double> dbh;    ///< trunk diameter at `breast_height` above the base; unset if shorter
+  DbhSource dbh_source = DbhSource::none;
   double breast_height = 0.0;
   double volume = 0.0;          ///< sum of the frustums between adjacent skeleton nodes
   double length = 0.0;          ///< total skeleton length

@@ -6,10 +6,23 @@
 #include "treeskel/point_cloud.h"
 #include "treeskel/skeleton.h"
 
+#include <Eigen/Core>
+
 #include <cstddef>
 #include <vector>
 
 namespace treeskel::modeling {
+
+/// A circle fitted to points in a plane.
+struct CircleFit {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  double radius = 0.0;    ///< 0 when the fit failed (fewer than 3 points, points on a line)
+  double rms = 0.0;       ///< rms distance of the points to the circle
+  double coverage = 0.0;  ///< angle covered by the points around the centre (radians)
+};
+
+/// Least-squares circle: the algebraic (Kåsa) fit refined by Gauss-Newton on the geometric distances.
+CircleFit fit_circle(const std::vector<Eigen::Vector2d>& points);
 
 /// One node's radius as its points measure it.
 struct RadiusMeasurement {
