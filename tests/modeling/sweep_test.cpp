@@ -30,6 +30,14 @@ void expect_valid(const TreeMesh& mesh) {
   EXPECT_GT(c.volume, 0.0);
 }
 
+/// The skeleton of a bundled cloud, radii fitted.
+Skeleton bundled_skeleton(const char* name) {
+  const PointCloud cloud = io::read_point_cloud(test::data_file(name));
+  Skeleton s = extract_skeleton(cloud);
+  fit_radii(s, &cloud);
+  return s;
+}
+
 TEST(SweepMesh, StraightBranchIsAClosedCylinderOfTheRightVolume) {
   const Skeleton s = test::straight(4.0, 0.05, 40);
   SweepStats stats;
@@ -92,9 +100,7 @@ TEST(SweepMesh, PaperTreesGiveValidMeshes) {
 
 TEST(SweepMesh, BundledCloudsGiveValidMeshes) {
   for (const char* name : {"tree_rtwig.txt", "tree_adtree1.xyz"}) {
-    const PointCloud cloud = io::read_point_cloud(test::data_file(name));
-    Skeleton s = extract_skeleton(cloud);
-    fit_radii(s, &cloud);
+    const Skeleton s = bundled_skeleton(name);
     SweepStats stats;
     const TreeMesh mesh = sweep_mesh(s, {}, &stats);
     SCOPED_TRACE(name);
@@ -107,9 +113,7 @@ TEST(SweepMesh, BundledCloudsGiveValidMeshes) {
 // mesh is no longer manifold (AdTree's cloud gives twigs a millionth of the trunk's radius).
 TEST(SweepMesh, BundledCloudsKeepTheirVerticesApartInFloat) {
   for (const char* name : {"tree_rtwig.txt", "tree_adtree1.xyz"}) {
-    const PointCloud cloud = io::read_point_cloud(test::data_file(name));
-    Skeleton s = extract_skeleton(cloud);
-    fit_radii(s, &cloud);
+    const Skeleton s = bundled_skeleton(name);
     SweepStats stats;
     const TreeMesh mesh = sweep_mesh(s, {}, &stats);
     std::set<std::array<float, 3>> seen;
@@ -208,9 +212,7 @@ namespace treeskel::modeling {
 namespace {
 
 TEST(SweepMesh, SameSkeletonSameMesh) {
-  const PointCloud cloud = io::read_point_cloud(test::data_file("tree_adtree1.xyz"));
-  Skeleton s = extract_skeleton(cloud);
-  fit_radii(s, &cloud);
+  const Skeleton s = bundled_skeleton("tree_adtree1.xyz");
   const TreeMesh a = sweep_mesh(s), b = sweep_mesh(s);
   ASSERT_EQ(a.n_vertices(), b.n_vertices());
   ASSERT_EQ(a.n_faces(), b.n_faces());
