@@ -168,7 +168,12 @@ struct Attempt {
     std::ptrdiff_t tube = -1;  // the tube it belongs to (-1: a hull)
   };
   std::vector<Axis> part_axis;
-  std::vector<std::array<std::ptrdiff_t, 2>> tube_joins;  // per tube: its joins at either end (-1: none)
+  /// Per tube: its joins at either end (-1: none) and its parts, [first_part, end_part).
+  struct TubeParts {
+    std::array<std::ptrdiff_t, 2> joins{-1, -1};
+    std::size_t first_part = 0, end_part = 0;
+  };
+  std::vector<TubeParts> tube_parts;
   std::size_t branches = 0, junctions = 0, merged_forks = 0;
 };
 
@@ -646,8 +651,8 @@ class Builder {
       hull_faces(join.rings, join.first_vertex, join.apex, join.top, join.radius, add_face, attempt);
     }
     for (const Tube& tube : tubes) {
-      const std::ptrdiff_t tube_id = static_cast<std::ptrdiff_t>(attempt.tube_joins.size());
-      attempt.tube_joins.push_back({tube.start_join, tube.end_join});
+      const std::ptrdiff_t tube_id = static_cast<std::ptrdiff_t>(attempt.tube_parts.size());
+      attempt.tube_parts.push_back({{tube.start_join, tube.end_join}, attempt.part_rings.size(), 0});
       const int sides = tube.rings.front().sides;
       const NodeId owner = chain_top(tube.chain);
       const double radius = tube.rings.front().radius;
@@ -682,6 +687,7 @@ class Builder {
         begin_part({q}, {last.centre, vertices.back(), last.radius, tube_id});
         for (int k = 0; k < sides; ++k) add_face(q + k, q + (k + 1) % sides, apex, owner, radius);
       }
+      attempt.tube_parts.back().end_part = attempt.part_rings.size();
     }
   }
 
@@ -867,28 +873,24 @@ std::vector<std::pair<std::size_t, std::size_t>> crossing_parts(const Attempt& a
 }
 
 /// Factor by which part `x`'s radii must shrink to clear part `y`, from their axes (a part lies
-/// within its radius of its axis): 0.97 (d - r_y) / r_x, at most 0.95; repair_shrink-like 0.7 for a
-/// hull, which has no axis. Two tubes that share no join are compared over their whole length
-/// (where one runs inside the other, only the ends of that stretch cross the other's surface).
-double clearing_factor(const Attempt& attempt, std::size_t x, std::size_t y) {
+/// within its radius of its axis): 0.97 (d - r_y) / r_x, at most 0.95; none when either is a hull,
+/// which has no axis. Two tubes that share no join are compared over their whole length (where one
+/// runs inside the other, only the ends of that stretch cross the other's surface).
+std::optional<double> clearing_factor(const Attempt& attempt, std::size_t x, std::size_t y) {
   const auto& ax = attempt.part_axis[x];
   const auto& ay = attempt.part_axis[y];
-  if (ax.tube < 0 || ay.tube < 0) return 0.7;
+  if (ax.tube < 0 || ay.tube < 0) return std::nullopt;
   auto factor = [](const Attempt::Axis& p, const Attempt::Axis& q) {
     return 0.97 * (segment_segment_distance(p.a, p.b, q.a, q.b) - q.radius) / p.radius;
   };
   double f = std::min(factor(ax, ay), 0.95);
-  const auto& jx = attempt.tube_joins[static_cast<std::size_t>(ax.tube)];
-  const auto& jy = attempt.tube_joins[static_cast<std::size_t>(ay.tube)];
-  for (const std::ptrdiff_t j : jx)
-    if (j >= 0 && (j == jy[0] || j == jy[1])) return f;
-  std::vector<const Attempt::Axis*> px, py;
-  for (const auto& axis : attempt.part_axis) {
-    if (axis.tube == ax.tube) px.push_back(&axis);
-    if (axis.tube == ay.tube) py.push_back(&axis);
-  }
-  for (const auto* p : px)
-    for (const auto* q : py) f = std::min(f, factor(*p, *q));
+  const auto& tx = attempt.tube_parts[static_cast<std::size_t>(ax.tube)];
+  const auto& ty = attempt.tube_parts[static_cast<std::size_t>(ay.tube)];
+  for (const std::ptrdiff_t j : tx.joins)
+    if (j >= 0 && (j == ty.joins[0] || j == ty.joins[1])) return f;
+  for (std::size_t p = tx.first_part; p < tx.end_part; ++p)
+    for (std::size_t q = ty.first_part; q < ty.end_part; ++q)
+      f = std::min(f, factor(attempt.part_axis[p], attempt.part_axis[q]));
   return f;
 }
 
@@ -1106,8 +1108,8 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
         const bool swap = shrinks[thin] >= 2 && thick != skeleton.root && shrinks[thick] < shrinks[thin];
         double f = options.repair_shrink;
         if (parts)
-          f = std::max(clearing_factor(a, a.face_part[first_thinner != swap ? f1 : f2], a.face_part[first_thinner != swap ? f2 : f1]),
-                       options.repair_shrink * options.repair_shrink);
+          if (const auto clear = clearing_factor(a, a.face_part[first_thinner != swap ? f1 : f2], a.face_part[first_thinner != swap ? f2 : f1]))
+            f = std::max(*clear, options.repair_shrink * options.repair_shrink);
         const auto [it, fresh] = factor.emplace(swap ? thick : thin, f);
         if (!fresh) it->second = std::min(it->second, f);
       }
