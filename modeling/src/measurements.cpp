@@ -16,10 +16,12 @@ namespace {
 /// `axis`): the slice spans breast height ± 1/13 of it (1.2 to 1.4 m for 1.3 m, the usual slice of
 /// terrestrial-scan inventories) and reaches twice the modelled `radius` from the axis; twice, points
 /// more than two rms off the circle are set aside and it is fitted again. None when the circle is
-/// unreliable: fewer than 8 points, an rms residual over 30% of its radius, less than 1.5 rad
-/// covered, or a centre farther than its radius from the axis.
+/// unreliable by the same limits as the branch radii's fits (`RadiusOptions`: 8 points, an rms
+/// residual within 30% of its radius, 1.5 rad covered) or its centre is farther than its radius
+/// from the axis.
 std::optional<double> slice_diameter(const PointCloud& cloud, const Eigen::Vector3d& at, const Eigen::Vector3d& axis,
                                      double radius, double breast_height) {
+  const RadiusOptions limits;
   const double half = breast_height / 13.0, reach = 2.0 * radius;
   const Eigen::Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
   std::vector<Eigen::Vector2d> slice;
@@ -30,19 +32,18 @@ std::optional<double> slice_diameter(const PointCloud& cloud, const Eigen::Vecto
     const Eigen::Vector2d q(d.dot(u), d.dot(w));
     if (q.norm() <= reach) slice.push_back(q);
   }
-  if (slice.size() < 8) return std::nullopt;
+  if (slice.size() < limits.min_points) return std::nullopt;
   CircleFit fit = fit_circle(slice);
   // A twig, a leaf or ghost points off the trunk's circle are set aside.
   for (int round = 0; round < 2 && fit.radius > 0.0; ++round) {
     std::vector<Eigen::Vector2d> kept;
     for (const auto& q : slice)
       if (std::abs((q - fit.centre).norm() - fit.radius) <= 2.0 * fit.rms) kept.push_back(q);
-    if (kept.size() < 8 || kept.size() == slice.size()) break;
+    if (kept.size() < limits.min_points || kept.size() == slice.size()) break;
     slice = std::move(kept);
     fit = fit_circle(slice);
   }
-  if (!(fit.radius > 0.0) || fit.rms > 0.3 * fit.radius || fit.coverage < 1.5 || fit.centre.norm() > fit.radius)
-    return std::nullopt;
+  if (!is_reliable(fit, limits) || fit.centre.norm() > fit.radius) return std::nullopt;
   return 2.0 * fit.radius;
 }
 
@@ -141,7 +142,7 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
         break;
       }
   }
-  // Where the trunk first reaches height h (its ends when it never does): segment and fraction.
+  // Where the trunk first reaches height h: segment and fraction (none when it never does).
   auto reach = [&](double h) -> std::optional<std::pair<std::size_t, double>> {
     for (std::size_t i = 0; i + 1 < trunk.size(); ++i) {
       const double h0 = g[trunk[i]].position.dot(up), h1 = g[trunk[i + 1]].position.dot(up);

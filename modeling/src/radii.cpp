@@ -127,6 +127,10 @@ CircleFit fit_circle(const std::vector<Eigen::Vector2d>& q) {
   return fit;
 }
 
+bool is_reliable(const CircleFit& fit, const RadiusOptions& options) {
+  return fit.radius > 0.0 && fit.rms <= options.max_residual * fit.radius && fit.coverage >= options.min_coverage;
+}
+
 std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, const PointCloud& cloud,
                                                   const RadiusOptions& options) {
   const auto& g = skeleton.graph;
@@ -153,8 +157,7 @@ std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, cons
     // is a fit to something else (a neighbouring branch, a leaf cluster).
     if (fit.centre.norm() > fit.radius) continue;
     out[v].radius = fit.radius;
-    const bool reliable = fit.rms <= options.max_residual * fit.radius && fit.coverage >= options.min_coverage;
-    out[v].weight = reliable ? std::min(1.0, static_cast<double>(q.size()) / (3.0 * static_cast<double>(min_points))) : 0.0;
+    out[v].weight = is_reliable(fit, options) ? std::min(1.0, static_cast<double>(q.size()) / (3.0 * static_cast<double>(min_points))) : 0.0;
   }
   return out;
 }

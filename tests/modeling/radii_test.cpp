@@ -39,6 +39,11 @@ TEST(FitCircle, ExactCircleFewPointsAndALine) {
   EXPECT_NEAR(fit.centre.y(), -1.0, 1e-9);
   EXPECT_NEAR(fit.rms, 0.0, 1e-9);
   EXPECT_NEAR(fit.coverage, 2.4, 1e-9);  // 7 points 0.4 rad apart
+  EXPECT_TRUE(is_reliable(fit, {}));
+  RadiusOptions wider;
+  wider.min_coverage = 3.0;
+  EXPECT_FALSE(is_reliable(fit, wider));
+  EXPECT_FALSE(is_reliable(CircleFit{}, {}));
   EXPECT_EQ(fit_circle({q[0], q[1]}).radius, 0.0);
   EXPECT_EQ(fit_circle({Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), Eigen::Vector2d(2, 2), Eigen::Vector2d(3, 3)}).radius, 0.0);
 }

@@ -50,6 +50,10 @@ struct RadiusOptions {
   int smoothing = 3;
 };
 
+/// Whether a circle fit is reliable enough to steer the radii: a radius, an rms residual within
+/// `options.max_residual` of it and at least `options.min_coverage` covered.
+bool is_reliable(const CircleFit& fit, const RadiusOptions& options);
+
 /// What `fit_radii` did, for reports.
 struct RadiusStats {
   std::size_t measured = 0;  ///< nodes with a circle fit
