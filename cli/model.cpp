@@ -65,6 +65,7 @@ nlohmann::ordered_json measurements_json(const modeling::TreeMeasurements& m) {
                     : m.dbh_source == modeling::DbhSource::model ? nlohmann::ordered_json("model")
                                                                  : nlohmann::ordered_json(nullptr);
   j["breast_height"] = m.breast_height;
+  j["dbh_height"] = m.dbh ? nlohmann::ordered_json(m.dbh_height) : nlohmann::ordered_json(nullptr);
   j["volume"] = m.volume;
   j["length"] = m.length;
   j["trunk_length"] = m.trunk_length;
@@ -185,8 +186,7 @@ int run(Settings& s) {
               << "), height "
               << measurements.height << ", DBH ";
     if (measurements.dbh)
-      std::cout << *measurements.dbh
-                << (measurements.dbh_source == modeling::DbhSource::points ? " (fitted to the points)" : " (from the model)");
+      std::cout << *measurements.dbh << modeling::dbh_note(measurements);
     else std::cout << "n/a (shorter than " << s.breast_height << ")";
     std::cout << ", wood volume " << measurements.volume << ", " << format_seconds(seconds) << " -> " << s.output << '\n';
   }

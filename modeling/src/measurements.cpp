@@ -6,23 +6,31 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
+#include <sstream>
+#include <tuple>
 
 namespace treeskel::modeling {
 
 namespace {
 
+constexpr double kSwelling = 1.1;  // a stem this much thicker at breast height than just below swells there
+// The skeleton runs along the trunk's axis: a circle whose centre lies farther from it than this
+// share of its radius passes close to the axis itself and goes around something else (a whorl of
+// branches around a thinner stem, say).
+constexpr double kMaxCentreOffset = 0.75;
+
 /// Diameter of a circle fitted to the cloud's points in a slice across the trunk at `at` (along
-/// `axis`): the slice spans breast height ± 1/13 of it (1.2 to 1.4 m for 1.3 m, the usual slice of
-/// terrestrial-scan inventories) and reaches twice the modelled `radius` from the axis; twice, points
-/// more than two rms off the circle are set aside and it is fitted again. None when the circle is
-/// unreliable by the same limits as the branch radii's fits (`RadiusOptions`: 8 points, an rms
-/// residual within 30% of its radius, 1.5 rad covered) or its centre is farther than its radius
-/// from the axis.
+/// `axis`): the slice spans `half` either side of it (1/13 of the breast height: 1.2 to 1.4 m for
+/// 1.3 m, the usual slice of terrestrial-scan inventories) and reaches `reach` from the axis; twice,
+/// points more than two rms off the circle are set aside and it is fitted again. None when the
+/// circle is unreliable by the same limits as the branch radii's fits (`RadiusOptions`: 8 points, an
+/// rms residual within 30% of its radius, 1.5 rad covered) or its centre is farther than 3/4 of its
+/// radius from the axis.
 std::optional<double> slice_diameter(const PointCloud& cloud, const Eigen::Vector3d& at, const Eigen::Vector3d& axis,
-                                     double radius, double breast_height) {
+                                     double reach, double half) {
   const RadiusOptions limits;
-  const double half = breast_height / 13.0, reach = 2.0 * radius;
   const Eigen::Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
   std::vector<Eigen::Vector2d> slice;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -43,7 +51,7 @@ std::optional<double> slice_diameter(const PointCloud& cloud, const Eigen::Vecto
     slice = std::move(kept);
     fit = fit_circle(slice);
   }
-  if (!is_reliable(fit, limits) || fit.centre.norm() > fit.radius) return std::nullopt;
+  if (!is_reliable(fit, limits) || fit.centre.norm() > kMaxCentreOffset * fit.radius) return std::nullopt;
   return 2.0 * fit.radius;
 }
 
@@ -74,10 +82,15 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
   m.height = top - base;
 
   // Branches: at every fork the thickest child (then the one carrying the longest subtree) goes on.
-  std::vector<double> carried(n, 0.0);
+  std::vector<double> carried(n, 0.0), top_of(n);  // subtree length, subtree's highest node
   const auto order = bfs_order(g, skeleton.root);
-  for (auto it = order.rbegin(); it != order.rend(); ++it)
-    for (NodeId c : t.children[*it]) carried[*it] += carried[c] + (g[c].position - g[*it].position).norm();
+  for (auto it = order.rbegin(); it != order.rend(); ++it) {
+    top_of[*it] = g[*it].position.dot(up);
+    for (NodeId c : t.children[*it]) {
+      carried[*it] += carried[c] + (g[c].position - g[*it].position).norm();
+      top_of[*it] = std::max(top_of[*it], top_of[c]);
+    }
+  }
   std::vector<std::size_t> branch(n, 0);
   std::vector<int> branch_order;  // per branch id - 1
   std::vector<std::size_t> position_in_branch(n, 0);
@@ -86,8 +99,13 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
   for (NodeId v : order) {
     const auto& kids = t.children[v];
     if (kids.empty()) continue;
+    // The thickest child goes on. For the trunk, only among the children that rise at least half
+    // as far above the fork as the highest one does: ground or roots left in a scan can fork off
+    // the base as thick as the stem, and a limb can be as thick as the leader.
+    const double rise = branch[v] == 1 ? top_of[v] - g[v].position.dot(up) : 0.0;
+    auto candidate = [&](NodeId c) { return branch[v] != 1 || top_of[c] - g[v].position.dot(up) >= 0.5 * rise; };
     const NodeId main = *std::max_element(kids.begin(), kids.end(), [&](NodeId a, NodeId b) {
-      return std::make_pair(g[a].radius, carried[a]) < std::make_pair(g[b].radius, carried[b]);
+      return std::make_tuple(candidate(a), g[a].radius, carried[a]) < std::make_tuple(candidate(b), g[b].radius, carried[b]);
     });
     for (NodeId c : kids) {
       if (c == main) {
@@ -154,27 +172,60 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
     return Eigen::Vector3d((1.0 - f) * g[trunk[i]].position + f * g[trunk[i + 1]].position);
   };
   const double target = base + options.breast_height;
-  if (const auto at = reach(target)) {
+  const double half = options.breast_height / 13.0;  // half the slice's height
+  const std::vector<RadiusMeasurement> fits =
+      cloud && options.dbh_from_points ? measure_node_radii(skeleton, *cloud) : std::vector<RadiusMeasurement>(n);
+  // The trunk's diameter from the points of a slice across it at height h above the base.
+  auto slice_at = [&](double h) -> std::optional<double> {
+    const auto at = reach(base + h);
+    if (!at) return std::nullopt;
     const auto [i, f] = *at;
     const double radius = (1.0 - f) * g[trunk[i]].radius + f * g[trunk[i + 1]].radius;
-    m.dbh = 2.0 * radius;
+    // The trunk's direction over a quarter of the breast height either side: one skeleton edge
+    // can lean by tens of degrees, and a slice that leans is an ellipse.
+    const double d = 0.25 * options.breast_height;
+    const auto below = reach(base + h - d), above = reach(base + h + d);
+    const Eigen::Vector3d low = below ? position(below->first, below->second) : g[trunk.front()].position;
+    const Eigen::Vector3d high = above ? position(above->first, above->second) : g[trunk.back()].position;
+    if (!((high - low).norm() > 0.0)) return std::nullopt;
+    // Twice the radius keeps the slice off nearby branches: the model's radius, or the circle fitted
+    // to the points of a trunk node within a slice's height, if that is larger and reliable. The
+    // model's can be far too small where many side chains share the trunk's cross section (ground
+    // left at the base, a crowded leader), and a slice that misses the bark fits nothing.
+    double wide = radius;
+    for (NodeId v : trunk)
+      if (std::abs(g[v].position.dot(up) - base - h) <= 2.0 * half && fits[v].weight > 0.0) wide = std::max(wide, fits[v].radius);
+    return slice_diameter(*cloud, position(i, f), (high - low).normalized(), 2.0 * wide, half);
+  };
+  if (const auto at = reach(target)) {
+    const auto [i, f] = *at;
+    m.dbh = 2.0 * ((1.0 - f) * g[trunk[i]].radius + f * g[trunk[i + 1]].radius);
     m.dbh_source = DbhSource::model;
-    if (cloud && options.dbh_from_points) {
-      // The trunk's direction over a quarter of the breast height either side: one skeleton edge
-      // can lean by tens of degrees, and a slice that leans is an ellipse.
-      const double d = 0.25 * options.breast_height;
-      const auto below = reach(target - d), above = reach(target + d);
-      const Eigen::Vector3d low = below ? position(below->first, below->second) : g[trunk.front()].position;
-      const Eigen::Vector3d high = above ? position(above->first, above->second) : g[trunk.back()].position;
-      const Eigen::Vector3d centre = position(i, f);  // the cloud's frame too
-      if ((high - low).norm() > 0.0)
-        if (const auto measured = slice_diameter(*cloud, centre, (high - low).normalized(), radius, options.breast_height)) {
-          m.dbh = *measured;
-          m.dbh_source = DbhSource::points;
+    m.dbh_height = options.breast_height;
+    if (cloud && options.dbh_from_points)
+      if (const auto measured = slice_at(options.breast_height)) {
+        m.dbh = *measured;
+        m.dbh_source = DbhSource::points;
+        // A stem that is more than kSwelling thicker at breast height than just below it swells
+        // there (a fork, a branch, a burl; a healthy stem narrows upward): the diameter is then
+        // taken just below, in the slice under the breast-height one.
+        const double lower = options.breast_height - 2.0 * half;
+        if (const auto under = slice_at(lower); under && *measured > kSwelling * *under) {
+          m.dbh = *under;
+          m.dbh_height = lower;
         }
-    }
+      }
   }
   return m;
+}
+
+std::string dbh_note(const TreeMeasurements& m) {
+  if (!m.dbh) return "";
+  if (m.dbh_source != DbhSource::points) return " (from the model)";
+  if (m.dbh_height == m.breast_height) return " (fitted to the points)";
+  std::ostringstream s;
+  s << " (fitted to the points at " << std::setprecision(3) << m.dbh_height << ", below a swelling at " << m.breast_height << ")";
+  return s.str();
 }
 
 }  // namespace treeskel::modeling

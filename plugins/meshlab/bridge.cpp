@@ -211,7 +211,7 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
             << (check.ok() ? (so.repair ? "closed, manifold, no self-intersection" : "closed, manifold") : check.problem())
             << "); height " << format(m.height) << ", DBH "
             << (!m.dbh ? std::string("n/a")
-                       : format(*m.dbh) + (m.dbh_source == modeling::DbhSource::points ? " (fitted to the points)" : " (from the model)"))
+                       : format(*m.dbh) + modeling::dbh_note(m))
             << ", wood volume " << format(m.volume);
     if (stats.thin_left_out + stats.joins_dropped + stats.repaired_dropped > 0)
       summary << "; " << stats.thin_left_out + stats.joins_dropped + stats.repaired_dropped << " thin branches left out";

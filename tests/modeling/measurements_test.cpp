@@ -123,5 +123,72 @@ TEST(MeasureTree, DbhFallsBackToTheModelWithoutAReliableCircle) {
   EXPECT_EQ(measure_tree(test::straight(1.0, 0.1, 10), &narrow).dbh_source, DbhSource::none);
 }
 
+TEST(MeasureTree, DbhIsTakenBelowASwellingAtBreastHeight) {
+  // A trunk of radius 0.1 that swells to 0.15 from 1.2 m up (a fork's flare, a burl).
+  PointCloud cloud = trunk_cloud(0.1, 1.2, 2.0 * kPi, 0.001, 3000);
+  const PointCloud swollen = trunk_cloud(0.15, 1.8, 2.0 * kPi, 0.001, 4500);
+  for (const auto& p : swollen.positions) cloud.positions.push_back(p + Eigen::Vector3d(0, 0, 1.2));
+  const TreeMeasurements m = measure_tree(trunk_skeleton(0.12, 3.0, 0.0), &cloud);
+  EXPECT_EQ(m.dbh_source, DbhSource::points);
+  EXPECT_NEAR(*m.dbh, 0.2, 0.004);
+  EXPECT_NEAR(m.dbh_height, 1.3 - 0.2, 1e-12);  // the slice under the breast-height one
+  EXPECT_NE(dbh_note(m).find("below a swelling"), std::string::npos);
+  // A stem that narrows upward, as stems do, is measured at breast height itself.
+  const PointCloud plain = trunk_cloud(0.1, 3.0, 2.0 * kPi, 0.001, 6000);
+  const TreeMeasurements n = measure_tree(trunk_skeleton(0.12, 3.0, 0.0), &plain);
+  EXPECT_NEAR(n.dbh_height, 1.3, 1e-12);
+  EXPECT_EQ(dbh_note(n), " (fitted to the points)");
+}
+
+TEST(MeasureTree, TrunkRisesPastThickClutterAtTheBase) {
+  // Ground or roots left in a scan: a chain off the base, thicker than the stem, that stays low.
+  Skeleton s;
+  SkeletonNode root;
+  root.position = Eigen::Vector3d::Zero();
+  root.radius = 0.1;
+  s.root = add_node(s, root);
+  test::add_run(s, s.root, Eigen::Vector3d(2.0, 0.0, 0.1), 0.15, 10);  // clutter, thickening
+  test::add_run(s, s.root, Eigen::Vector3d(0.0, 0.0, 3.0), 0.1, 30);   // the stem
+  const TreeMeasurements m = measure_tree(s, nullptr);
+  ASSERT_TRUE(m.dbh.has_value());
+  EXPECT_NEAR(*m.dbh, 0.2, 1e-12);
+  EXPECT_NEAR(m.trunk_length, 3.0, 1e-9);
+  EXPECT_EQ(m.branches_by_order, (std::vector<std::size_t>{1, 1}));
+}
+
+TEST(MeasureTree, DbhSliceReachesTheBarkWhereTheModelIsFarTooThin) {
+  // The model gives the trunk 0.03 (its share of a fork with ground at the base, say); the bark is
+  // at 0.1, outside a slice of twice the model's radius. The circles fitted to the trunk nodes' own
+  // points widen the slice.
+  const PointCloud cloud = trunk_cloud(0.1, 3.0, 2.0 * kPi, 0.001, 6000);
+  Skeleton s = trunk_skeleton(0.03, 3.0, 0.0);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {  // each point to the node at its height
+    NodeId nearest = 0;
+    for (NodeId v = 0; v < s.node_count(); ++v)
+      if (std::abs(s[v].position.z() - cloud.positions[i].z()) < std::abs(s[nearest].position.z() - cloud.positions[i].z()))
+        nearest = v;
+    s[nearest].points.push_back(static_cast<std::uint32_t>(i));
+  }
+  const TreeMeasurements m = measure_tree(s, &cloud);
+  EXPECT_EQ(m.dbh_source, DbhSource::points);
+  EXPECT_NEAR(*m.dbh, 0.2, 0.004);
+  // Without the nodes' points, the slice misses the bark and the model's diameter stands.
+  const TreeMeasurements bare = measure_tree(trunk_skeleton(0.03, 3.0, 0.0), &cloud);
+  EXPECT_EQ(bare.dbh_source, DbhSource::model);
+  EXPECT_NEAR(*bare.dbh, 0.06, 1e-12);
+}
+
+TEST(MeasureTree, DbhCircleMustSurroundTheAxis) {
+  // A circle of the model's radius whose centre is 0.09 off the skeleton: it passes next to the axis
+  // and is something beside the trunk.
+  PointCloud cloud = trunk_cloud(0.1, 3.0, 2.0 * kPi, 0.001, 6000);
+  for (auto& p : cloud.positions) p.x() += 0.09;
+  const TreeMeasurements m = measure_tree(trunk_skeleton(0.1, 3.0, 0.0), &cloud);
+  EXPECT_EQ(m.dbh_source, DbhSource::model);
+  // 0.05 off (a trunk scanned from one side pulls the skeleton that far) still counts.
+  for (auto& p : cloud.positions) p.x() -= 0.04;
+  EXPECT_EQ(measure_tree(trunk_skeleton(0.1, 3.0, 0.0), &cloud).dbh_source, DbhSource::points);
+}
+
 }  // namespace
 }  // namespace treeskel::modeling

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace treeskel::modeling {
@@ -46,6 +47,9 @@ struct TreeMeasurements {
   std::optional<double> dbh;    ///< trunk diameter at `breast_height` above the base; unset if shorter
   DbhSource dbh_source = DbhSource::none;
   double breast_height = 0.0;
+  /// Height above the base where the DBH was taken: `breast_height`, or a little below it where the
+  /// points show the stem swelling there (a fork, a branch, a burl), as foresters measure.
+  double dbh_height = 0.0;
   double volume = 0.0;          ///< sum of the frustums between adjacent skeleton nodes
   double length = 0.0;          ///< total skeleton length
   double trunk_length = 0.0;    ///< length of branch 1
@@ -53,8 +57,14 @@ struct TreeMeasurements {
   std::vector<QsmCylinder> cylinders;
 };
 
+/// How the DBH was taken, for summaries: " (fitted to the points)", " (fitted to the points at 1.1,
+/// below a swelling at 1.3)", " (from the model)", or "" without a DBH.
+std::string dbh_note(const TreeMeasurements& m);
+
 /// Measures a skeleton whose radii are fitted. Branches follow the thickest child at every fork
-/// (the others start branches one order higher). The base is the lowest point the skeleton stands
+/// (the others start branches one order higher); the trunk, the thickest of the children that rise
+/// at least half as far above the fork as the highest one. The DBH is fitted to the points of a
+/// slice across the trunk at breast height, or of the slice below it where the stem swells there. The base is the lowest point the skeleton stands
 /// for: the lowest of its points in `cloud` when given, else its root.
 /// @throws InputError when the skeleton is empty or not a tree.
 TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud, const MeasureOptions& options = {});
