@@ -173,8 +173,6 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
   };
   const double target = base + options.breast_height;
   const double half = options.breast_height / 13.0;  // half the slice's height
-  const std::vector<RadiusMeasurement> fits =
-      cloud && options.dbh_from_points ? measure_node_radii(skeleton, *cloud) : std::vector<RadiusMeasurement>(n);
   // The trunk's diameter from the points of a slice across it at height h above the base.
   auto slice_at = [&](double h) -> std::optional<double> {
     const auto at = reach(base + h);
@@ -194,7 +192,8 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
     // left at the base, a crowded leader), and a slice that misses the bark fits nothing.
     double wide = radius;
     for (NodeId v : trunk)
-      if (std::abs(g[v].position.dot(up) - base - h) <= 2.0 * half && fits[v].weight > 0.0) wide = std::max(wide, fits[v].radius);
+      if (std::abs(g[v].position.dot(up) - base - h) <= 2.0 * half)
+        if (const RadiusMeasurement fit = measure_node_radius(skeleton, *cloud, v); fit.weight > 0.0) wide = std::max(wide, fit.radius);
     return slice_diameter(*cloud, position(i, f), (high - low).normalized(), 2.0 * wide, half);
   };
   if (const auto at = reach(target)) {

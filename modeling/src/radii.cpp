@@ -131,34 +131,34 @@ bool is_reliable(const CircleFit& fit, const RadiusOptions& options) {
   return fit.radius > 0.0 && fit.rms <= options.max_residual * fit.radius && fit.coverage >= options.min_coverage;
 }
 
+RadiusMeasurement measure_node_radius(const Skeleton& skeleton, const PointCloud& cloud, NodeId v,
+                                      const RadiusOptions& options) {
+  const auto& g = skeleton.graph;
+  const auto& node = g[v];
+  const std::size_t min_points = std::max<std::size_t>(options.min_points, 3);
+  if (node.points.size() < min_points || boost::degree(v, g) > 2) return {};
+  const Eigen::Vector3d axis = branch_direction(skeleton, v);
+  if (axis.isZero()) return {};
+  const Eigen::Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
+  const std::size_t stride = (node.points.size() + kMaxFitPoints - 1) / kMaxFitPoints;
+  std::vector<Eigen::Vector2d> q;
+  q.reserve(node.points.size() / stride + 1);
+  for (std::size_t i = 0; i < node.points.size(); i += stride) {
+    TREESKEL_REQUIRE(node.points[i] < cloud.size(), "a skeleton node lists a point the cloud does not have");
+    const Eigen::Vector3d d = cloud.positions[node.points[i]] - node.position;
+    q.emplace_back(d.dot(u), d.dot(w));
+  }
+  const CircleFit fit = fit_circle(q);
+  // The circle must sit around the node: a centre farther than its own radius from the skeleton
+  // is a fit to something else (a neighbouring branch, a leaf cluster).
+  if (fit.radius <= 0.0 || fit.centre.norm() > fit.radius) return {};
+  return {fit.radius, is_reliable(fit, options) ? std::min(1.0, static_cast<double>(q.size()) / (3.0 * static_cast<double>(min_points))) : 0.0};
+}
+
 std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, const PointCloud& cloud,
                                                   const RadiusOptions& options) {
-  const auto& g = skeleton.graph;
-  const std::size_t n = boost::num_vertices(g);
-  std::vector<RadiusMeasurement> out(n);
-  const std::size_t min_points = std::max<std::size_t>(options.min_points, 3);
-  for (NodeId v = 0; v < n; ++v) {
-    const auto& node = g[v];
-    if (node.points.size() < min_points || boost::degree(v, g) > 2) continue;
-    const Eigen::Vector3d axis = branch_direction(skeleton, v);
-    if (axis.isZero()) continue;
-    const Eigen::Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
-    const std::size_t stride = (node.points.size() + kMaxFitPoints - 1) / kMaxFitPoints;
-    std::vector<Eigen::Vector2d> q;
-    q.reserve(node.points.size() / stride + 1);
-    for (std::size_t i = 0; i < node.points.size(); i += stride) {
-      TREESKEL_REQUIRE(node.points[i] < cloud.size(), "a skeleton node lists a point the cloud does not have");
-      const Eigen::Vector3d d = cloud.positions[node.points[i]] - node.position;
-      q.emplace_back(d.dot(u), d.dot(w));
-    }
-    const CircleFit fit = fit_circle(q);
-    if (fit.radius <= 0.0) continue;
-    // The circle must sit around the node: a centre farther than its own radius from the skeleton
-    // is a fit to something else (a neighbouring branch, a leaf cluster).
-    if (fit.centre.norm() > fit.radius) continue;
-    out[v].radius = fit.radius;
-    out[v].weight = is_reliable(fit, options) ? std::min(1.0, static_cast<double>(q.size()) / (3.0 * static_cast<double>(min_points))) : 0.0;
-  }
+  std::vector<RadiusMeasurement> out(boost::num_vertices(skeleton.graph));
+  for (NodeId v = 0; v < out.size(); ++v) out[v] = measure_node_radius(skeleton, cloud, v, options);
   return out;
 }
 

@@ -61,6 +61,11 @@ struct RadiusStats {
   bool used_stored = false;  ///< no cloud points: the skeleton's own radii were taken as measurements
 };
 
+/// Least-squares circle fit of one node's points in the plane across its branch; see
+/// measure_node_radii.
+RadiusMeasurement measure_node_radius(const Skeleton& skeleton, const PointCloud& cloud, NodeId v,
+                                      const RadiusOptions& options = {});
+
 /// Least-squares circle fit of each node's points in the plane across its branch (algebraic fit,
 /// refined by Gauss-Newton on the geometric distance). Fork nodes and nodes with fewer than
 /// `options.min_points` points are not measured.
