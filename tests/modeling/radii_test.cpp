@@ -71,6 +71,10 @@ TEST(MeasureNodeRadii, CircleFitRecoversAHalfScannedBranch) {
     EXPECT_NEAR(m[v].radius, 0.1, 0.003) << v;
     EXPECT_GT(m[v].weight, 0.0) << v;
   }
+  for (NodeId v = 0; v < s.node_count(); ++v) {  // one node alone measures the same
+    EXPECT_EQ(measure_node_radius(s, cloud, v).radius, m[v].radius) << v;
+    EXPECT_EQ(measure_node_radius(s, cloud, v).weight, m[v].weight) << v;
+  }
 }
 
 TEST(FitRadii, LeonardoAtEveryForkAndNoGrowthTowardTheTips) {
