@@ -13,20 +13,25 @@ case $filter in
 esac
 for i in $(seq 60); do xdotool search --onlyvisible --name "MeshLab 2020" >/dev/null 2>&1 && break; sleep 0.5; done
 sleep 3                                        # let it finish loading the layer
-xdotool mousemove 120 10 click 1; sleep 1      # Filters
-xdotool mousemove 155 386 click 1; sleep 1     # Point Set
-xdotool mousemove 628 "$row" click 1
 pattern=$(printf '%s' "$filter" | sed 's/[][().*^$+?{}|\\]/\\&/g')
-for i in $(seq 20); do
-  dialog=$(xdotool search --onlyvisible --name "^$pattern\$" 2>/dev/null | head -n 1) || true
-  if [ -n "$dialog" ]; then
-    sleep 1
-    eval "$(xdotool getwindowgeometry --shell "$dialog")"   # X Y WIDTH HEIGHT
-    # Close and Apply are the last row of buttons, left and right half, 20 pixels above the bottom.
-    echo "$((X + WIDTH * 3 / 4)) $((Y + HEIGHT - 20)) $((X + WIDTH / 4)) $((Y + HEIGHT - 20))"
-    exit 0
-  fi
-  sleep 0.5
+# On a loaded machine a menu can open later than the next click: then the menus are closed with
+# Escape and the clicks tried again, three times in all.
+for attempt in 1 2 3; do
+  xdotool mousemove 120 10 click 1; sleep $attempt      # Filters
+  xdotool mousemove 155 386 click 1; sleep $attempt     # Point Set
+  xdotool mousemove 628 "$row" click 1
+  for i in $(seq 20); do
+    dialog=$(xdotool search --onlyvisible --name "^$pattern\$" 2>/dev/null | head -n 1) || true
+    if [ -n "$dialog" ]; then
+      sleep 1
+      eval "$(xdotool getwindowgeometry --shell "$dialog")"   # X Y WIDTH HEIGHT
+      # Close and Apply are the last row of buttons, left and right half, 20 pixels above the bottom.
+      echo "$((X + WIDTH * 3 / 4)) $((Y + HEIGHT - 20)) $((X + WIDTH / 4)) $((Y + HEIGHT - 20))"
+      exit 0
+    fi
+    sleep 0.5
+  done
+  xdotool key Escape; sleep 0.5; xdotool key Escape; sleep 0.5
 done
 echo "gui-open-filter: the dialog of '$filter' did not open" >&2
 exit 1

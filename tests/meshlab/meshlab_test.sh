@@ -93,7 +93,8 @@ for filter in "Tree Mesh from Point Cloud" "Tree Skeleton (CPC)"; do
   echo "\$filter: MeshLab showed 'Filter Failure'"
   # No window manager under Xvfb: the keyboard goes where the pointer is. Return presses OK.
   eval "\$(xdotool getwindowgeometry --shell "\$failure")"
-  xdotool mousemove \$((X + WIDTH / 2)) \$((Y + HEIGHT / 2)) key Return; sleep 1
+  xdotool mousemove \$((X + WIDTH / 2)) \$((Y + HEIGHT / 2)) key Return
+  for i in \$(seq 20); do xdotool search --onlyvisible --name "^Filter Failure\$" >/dev/null 2>&1 || break; sleep 0.5; done
   ! xdotool search --onlyvisible --name "^Filter Failure\$" >/dev/null 2>&1 || { echo "the message did not close" >&2; exit 1; }
   kill -0 \$meshlab || { echo "\$filter: MeshLab is no longer running" >&2; exit 1; }
   xdotool mousemove \$close_x \$close_y click 1; sleep 1
