@@ -123,28 +123,31 @@ double own_exponent(const Skeleton& truth) {
   return exponents[exponents.size() / 2];
 }
 
-/// Total volume of a TreeQSM cylinder table (radius, length, ... per row).
-double treeqsm_volume(const std::string& path) {
+/// The cylinder rows of a TreeQSM table (radius, length, start xyz, axis xyz, parent, extension,
+/// added, unmodified radius, branch, order, ...): every line of at least 14 numbers.
+std::vector<std::vector<double>> treeqsm_rows(const std::string& path) {
   std::ifstream in(path);
-  double volume = 0.0;
+  std::vector<std::vector<double>> rows;
   for (std::string line; std::getline(in, line);) {
     std::istringstream s(line);
     std::vector<double> f;
     for (double x; s >> x;) f.push_back(x);
-    if (f.size() >= 14) volume += kPi * f[0] * f[0] * f[1];
+    if (f.size() >= 14) rows.push_back(std::move(f));
   }
+  return rows;
+}
+
+/// Total volume of a TreeQSM table's cylinders.
+double treeqsm_volume(const std::vector<std::vector<double>>& rows) {
+  double volume = 0.0;
+  for (const auto& f : rows) volume += kPi * f[0] * f[0] * f[1];
   return volume;
 }
 
 /// The trunk diameter of a TreeQSM table at `height` above `base` (z up), or NaN.
-double treeqsm_diameter(const std::string& path, double base, double height) {
-  std::ifstream in(path);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::vector<double> f;
-    for (double x; s >> x;) f.push_back(x);
-    if (f.size() < 14 || f[12] != 1.0) continue;  // branch 1 is the trunk
+double treeqsm_diameter(const std::vector<std::vector<double>>& rows, double base, double height) {
+  for (const auto& f : rows) {
+    if (f[12] != 1.0) continue;  // branch 1 is the trunk
     const double r = f[0], length = f[1], z0 = f[4], dz = f[7];
     const double z1 = z0 + length * dz;
     if ((z0 - base - height) * (z1 - base - height) <= 0.0) return 2.0 * r;
@@ -218,10 +221,11 @@ int main(int argc, char** argv) {
     const modeling::TreeMeasurements m = modeling::measure_tree(s, &cloud);
     double base = std::numeric_limits<double>::infinity();
     for (const auto& p : cloud.positions) base = std::min(base, p.z() + cloud.offset.z());
-    const double reference = treeqsm_diameter(qsm, base, 1.3);
+    const auto rows = treeqsm_rows(qsm);
+    const double reference = treeqsm_diameter(rows, base, 1.3);
     std::printf("aRchi Tree_1 (%zu points): DBH %.3f m, TreeQSM %.3f m, difference %+.1f%%\n", cloud.size(),
                 m.dbh ? *m.dbh : std::nan(""), reference, 100.0 * ((m.dbh ? *m.dbh : 0.0) / reference - 1.0));
-    const double qsm_volume = treeqsm_volume(qsm);
+    const double qsm_volume = treeqsm_volume(rows);
     std::printf("  wood volume %.2f m3, TreeQSM %.2f m3, difference %+.1f%%\n", m.volume, qsm_volume,
                 100.0 * (m.volume / qsm_volume - 1.0));
   }
