@@ -154,7 +154,8 @@ struct Attempt {
   // The surface as a triangle soup, in parts: a join's hull, a tube's band between two adjacent
   // rings, its base cap or its tip cone. Parts that share a ring meet only at that ring (a ring's
   // plane has its band on one side and the next band or the join on the other), so only parts that
-  // share no ring can cross.
+  // share no ring are tested against each other. A part against itself is not tested: a band that
+  // folds where a branch kinks is left to CGAL's test of the whole mesh.
   std::vector<Vector3d> vertices;
   std::vector<std::array<std::size_t, 3>> faces;
   std::vector<NodeId> face_owner;  // per face: top node of the branch or join that made it

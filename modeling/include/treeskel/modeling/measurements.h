@@ -64,8 +64,9 @@ std::string dbh_note(const TreeMeasurements& m);
 /// Measures a skeleton whose radii are fitted. Branches follow the thickest child at every fork
 /// (the others start branches one order higher); the trunk, the thickest of the children that rise
 /// at least half as far above the fork as the highest one. The DBH is fitted to the points of a
-/// slice across the trunk at breast height, or of the slice below it where the stem swells there. The base is the lowest point the skeleton stands
-/// for: the lowest of its points in `cloud` when given, else its root.
+/// slice across the trunk at breast height, or of the slice below it where the stem swells there.
+/// The base is the lowest point the skeleton stands for: the lowest of its points in `cloud` when
+/// given, else its root.
 /// @throws InputError when the skeleton is empty or not a tree.
 TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud, const MeasureOptions& options = {});
 

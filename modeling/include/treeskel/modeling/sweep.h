@@ -61,7 +61,8 @@ struct SweepStats {
   std::size_t repaired_dropped = 0;  ///< branches left out to clear an intersection
   int repair_rounds = 0;
   /// Repair rounds started by CGAL's test of the whole mesh: crossings the faster test of the parts
-  /// that share no ring did not see (none expected; the parts that share one meet only there).
+  /// that share no ring did not see. A band that folds over itself where a branch kinks is one
+  /// (AdTree's tree7 has five such rounds); the bundled clouds and the synthetic trees have none.
   int late_repair_rounds = 0;
   int attempts = 0;                  ///< times the mesh was built (each repair round builds it again)
   std::size_t self_intersections = 0;  ///< face pairs still intersecting after the repair
