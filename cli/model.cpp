@@ -8,6 +8,7 @@
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/io/skeleton_io.h"
+#include "treeskel/modeling/coverage.h"
 #include "treeskel/modeling/measurements.h"
 #include "treeskel/modeling/radii.h"
 #include "treeskel/modeling/sweep.h"
@@ -27,6 +28,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// Below this share of the skeleton's length inside the mesh, the summary warns.
+constexpr double kCoverageWarning = 0.95;
+
 struct Settings {
   std::string input;
   std::string output;
@@ -42,6 +46,7 @@ struct Settings {
   modeling::SweepOptions sweep;
   double breast_height = 1.3;
   bool dbh_from_model = false;
+  bool local = false;
 };
 
 /// A saved skeleton rather than a cloud: .json, or a PLY with an edge element.
@@ -94,10 +99,18 @@ int run(Settings& s) {
   Eigen::Vector3d up = parse_up(s.method.up);
   if (from_skeleton) {
     skeleton = io::read_skeleton(s.input);
-    for (NodeId v = 0; v < skeleton.node_count(); ++v)
-      if (!(skeleton[v].radius > 0.0) || !std::isfinite(skeleton[v].radius))
+    // A skeleton saved by `skeletonize` has radii only where the method measured them (0 elsewhere):
+    // the pipe model fills in the rest from the positive ones when the radii are fitted below.
+    std::size_t missing = 0;
+    for (NodeId v = 0; v < skeleton.node_count(); ++v) {
+      if (!std::isfinite(skeleton[v].radius) || skeleton[v].radius < 0.0)
         throw InputError(s.input + ": node " + std::to_string(v) + " has radius " + std::to_string(skeleton[v].radius) +
-                         "; every radius of a skeleton to model must be positive");
+                         "; radii must be finite and not negative (0: to be filled by the pipe model)");
+      if (skeleton[v].radius == 0.0) ++missing;
+    }
+    if (missing > 0 && !s.quiet && !s.json)
+      std::cerr << "note: " << missing << " of " << skeleton.node_count()
+                << " nodes have no radius; the pipe model fills them in from the others\n";
   } else {
     cloud = io::read_point_cloud(s.input);
     SkeletonOptions o = skeleton_options_for(s.method, *cloud);
@@ -125,9 +138,31 @@ int run(Settings& s) {
   modeling::MeshCheck check = modeling::check_mesh(mesh, false);
   check.self_intersections = sweep_stats.self_intersections;
   check.self_intersections_checked = s.sweep.repair;
-  if (!check.ok() && !s.allow_defects)
+  // Several closed components (a limb swept apart that its union did not reach) are written with a
+  // warning: leaving them out would lose the limbs.
+  modeling::MeshCheck as_one = check;
+  as_one.components = 1;
+  const bool apart_only = !check.ok() && as_one.ok();
+  if (apart_only && !s.json)
+    std::cerr << "warning: the mesh of " << s.input << " has " << check.components
+              << " closed components: " << check.components - 1
+              << " swept-apart limb(s) do not touch the rest; written as they are\n";
+  if (!check.ok() && !apart_only && !s.allow_defects)
     throw Error("the mesh of " + s.input + " failed its check: " + check.problem() +
                 "; nothing was written (--allow-defects writes it anyway)");
+  if (sweep_stats.pieces_failed > 0 && !s.json)
+    std::cerr << "warning: " << sweep_stats.pieces_failed << " limb(s) of " << s.input
+              << (s.sweep.unite_apart ? " could not be united with the tree without the mesh crossing itself"
+                                      : " found no room at their forks (--no-unite)")
+              << " and are left out\n";
+  if (sweep_stats.float_crossings > 0 && !s.json)
+    std::cerr << "warning: rounded to 32-bit floats in the input's frame (as PLY, STL and MeshLab hold it), the mesh of " << s.input << " crosses itself at "
+              << sweep_stats.float_crossings << " face pairs (OBJ keeps full precision; --local writes local coordinates)\n";
+  // How much of the skeleton the mesh holds: a valid mesh can still leave limbs out.
+  const modeling::SkeletonCoverage coverage = modeling::skeleton_coverage(skeleton, mesh);
+  if (coverage.share() < kCoverageWarning && !s.json)
+    std::cerr << "warning: the mesh of " << s.input << " holds only " << std::lround(100.0 * coverage.share())
+              << "% of the skeleton's length (" << coverage.inside_length << " of " << coverage.length << ")\n";
   modeling::MeasureOptions mo;
   mo.up = up;
   mo.breast_height = s.breast_height;
@@ -135,7 +170,14 @@ int run(Settings& s) {
   const modeling::TreeMeasurements measurements = modeling::measure_tree(skeleton, cloud ? &*cloud : nullptr, mo);
 
   progress("writing " + fs::path(s.output).filename().string(), 0.95);
-  io::write_mesh(s.output, mesh, skeleton.offset, s.with_skeleton ? &skeleton : nullptr);
+  io::MeshFrame frame;
+  frame.offset = skeleton.offset;
+  frame.up = up;
+  frame.local = s.local;
+  const io::MeshPlacement placed = io::write_mesh(s.output, mesh, frame, s.with_skeleton ? &skeleton : nullptr);
+  if (!placed.note.empty() && !frame.local && !s.quiet)
+    std::cerr << "note: " << s.output << " holds " << placed.note << "; add the offset (" << placed.left_out.x() << ", "
+              << placed.left_out.y() << ", " << placed.left_out.z() << ") for the input's frame (also in --report)\n";
   if (!s.qsm.empty()) io::write_qsm_csv(s.qsm, measurements);
   if (!s.skeleton_out.empty()) io::write_skeleton(s.skeleton_out, skeleton);
   const double seconds = clock.seconds();
@@ -160,6 +202,9 @@ int run(Settings& s) {
                {"self_intersections", s.sweep.repair ? nlohmann::ordered_json(check.self_intersections) : nlohmann::ordered_json(nullptr)},
                {"volume", check.volume},
                {"area", check.area},
+               {"skeleton_coverage", coverage.share()},
+               {"skeleton_length", coverage.length},
+               {"skeleton_length_inside", coverage.inside_length},
                {"branches", sweep_stats.branches},
                {"junctions", sweep_stats.junctions},
                {"merged_forks", sweep_stats.merged_forks},
@@ -169,7 +214,17 @@ int run(Settings& s) {
                {"joins_thinned", sweep_stats.joins_thinned},
                {"joins_dropped", sweep_stats.joins_dropped},
                {"repaired_shrunk", sweep_stats.repaired_shrunk},
-               {"repaired_dropped", sweep_stats.repaired_dropped}};
+               {"repaired_dropped", sweep_stats.repaired_dropped},
+               {"raised_to_floor", sweep_stats.raised_to_floor},
+               {"pieces_united", sweep_stats.pieces},
+               {"unions", sweep_stats.unions},
+               {"pieces_apart", sweep_stats.pieces_apart},
+               {"pieces_failed", sweep_stats.pieces_failed},
+               {"welded_edges", sweep_stats.welded_edges},
+               {"float_crossings", sweep_stats.float_crossings}};
+  j["frame"] = {{"offset_left_out", {placed.left_out.x(), placed.left_out.y(), placed.left_out.z()}},
+                {"y_up_rotation", placed.y_up_rotation},
+                {"note", placed.note}};
   j["seconds"] = {{"skeleton", skeleton_seconds}, {"total", seconds}};
   j["peak_memory_mb"] = peak_memory_mb();
   if (!s.report.empty()) io::write_atomically(s.report, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
@@ -183,7 +238,7 @@ int run(Settings& s) {
               << (!check.ok()              ? check.problem()
                   : s.sweep.repair         ? std::string("closed, manifold, no self-intersection")
                                            : std::string("closed, manifold; self-intersections not checked"))
-              << "), height "
+              << "), " << std::lround(100.0 * coverage.share()) << "% of the skeleton inside, height "
               << measurements.height << ", DBH ";
     if (measurements.dbh)
       std::cout << *measurements.dbh << modeling::dbh_note(measurements);
@@ -235,6 +290,17 @@ Command add_model(CLI::App& app) {
   c->add_flag("--dbh-from-model", s->dbh_from_model,
               "Take the DBH from the model's radius at breast height, not from a circle fitted to the points of "
               "a slice there (the default; the model's radius is the fallback when that circle is unreliable)")
+      ->group(g);
+  c->add_flag("--no-unite", [s](std::int64_t) { s->sweep.unite_apart = false; },
+              "Leave out the limbs a fork's join or a crossing leaves no room for, instead of sweeping them apart and "
+              "uniting them with the tree (much faster on crowded crowns; the summary says how much of the skeleton "
+              "is then missing)")
+      ->group(g);
+  c->add_flag("--local", s->local,
+              "Write the mesh in the local frame (the input's frame less the offset the report gives) in every format. "
+              "By default OBJ holds the input's frame in double precision, glTF local vertices under a root node "
+              "that turns the up axis to +Y and translates by the offset exactly, PLY and STL the input's frame "
+              "unless 32-bit floats would round it (georeferenced clouds), then local with a note")
       ->group(g);
   c->add_flag("--no-repair", [s](std::int64_t) { s->sweep.repair = false; },
               "Skip the self-intersection test and repair (faster; the mesh may then cross itself)")->group(g);

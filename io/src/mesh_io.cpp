@@ -10,7 +10,13 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <nlohmann/json.hpp>
+#include <Eigen/Geometry>
+
+#include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <ostream>
@@ -29,11 +35,25 @@ const std::map<std::string, std::string>& formats() {
   return ids;
 }
 
-std::unique_ptr<aiScene> make_scene(const modeling::TreeMesh& mesh, const Eigen::Vector3d& offset,
-                                    const Skeleton* skeleton) {
+/// The rotation that turns `up` to +Y, entries within 1e-12 of an integer made exact (so that an
+/// axis-aligned turn is exact in 32-bit floats too).
+Eigen::Matrix3d y_up_rotation(const Eigen::Vector3d& up) {
+  Eigen::Matrix3d r = Eigen::Quaterniond::FromTwoVectors(up.normalized(), Eigen::Vector3d::UnitY()).toRotationMatrix();
+  for (int i = 0; i < 9; ++i)
+    if (std::abs(r(i) - std::round(r(i))) < 1e-12) r(i) = std::round(r(i));
+  return r;
+}
+
+/// The scene assimp writes: the mesh's vertices plus `shift`, the skeleton's nodes plus
+/// `skeleton_shift`, and the root node turned by `rotation`.
+std::unique_ptr<aiScene> make_scene(const modeling::TreeMesh& mesh, const Eigen::Vector3d& shift,
+                                    const Skeleton* skeleton, const Eigen::Vector3d& skeleton_shift,
+                                    const Eigen::Matrix3d& rotation) {
   auto scene = std::make_unique<aiScene>();
   const unsigned mesh_count = skeleton ? 2u : 1u;
   scene->mRootNode = new aiNode("tree");
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) scene->mRootNode->mTransformation[i][j] = static_cast<ai_real>(rotation(i, j));
   scene->mMaterials = new aiMaterial*[1]{new aiMaterial()};
   scene->mNumMaterials = 1;
   {
@@ -65,8 +85,8 @@ std::unique_ptr<aiScene> make_scene(const modeling::TreeMesh& mesh, const Eigen:
     auto nrm = with_normals.normal(v);
     if (nrm.norm() > 0.0) nrm.normalize();
     const auto i = static_cast<unsigned>(v.idx());
-    m->mVertices[i] = aiVector3D(static_cast<ai_real>(p[0] + offset.x()), static_cast<ai_real>(p[1] + offset.y()),
-                                 static_cast<ai_real>(p[2] + offset.z()));
+    m->mVertices[i] = aiVector3D(static_cast<ai_real>(p[0] + shift.x()), static_cast<ai_real>(p[1] + shift.y()),
+                                 static_cast<ai_real>(p[2] + shift.z()));
     m->mNormals[i] = aiVector3D(static_cast<ai_real>(nrm[0]), static_cast<ai_real>(nrm[1]), static_cast<ai_real>(nrm[2]));
   }
   m->mNumFaces = static_cast<unsigned>(mesh.n_faces());
@@ -87,7 +107,7 @@ std::unique_ptr<aiScene> make_scene(const modeling::TreeMesh& mesh, const Eigen:
     l->mNumVertices = static_cast<unsigned>(boost::num_vertices(g));
     l->mVertices = new aiVector3D[l->mNumVertices];
     for (NodeId v = 0; v < boost::num_vertices(g); ++v) {
-      const Eigen::Vector3d p = g[v].position + skeleton->offset;
+      const Eigen::Vector3d p = g[v].position + skeleton_shift;
       l->mVertices[v] = aiVector3D(static_cast<ai_real>(p.x()), static_cast<ai_real>(p.y()), static_cast<ai_real>(p.z()));
     }
     l->mNumFaces = static_cast<unsigned>(boost::num_edges(g));
@@ -118,18 +138,141 @@ struct TempDir {
   }
 };
 
+/// Writes OBJ text with every coordinate in double precision (shortest exact decimal), the mesh's
+/// vertices plus `shift`, and the skeleton's edges as lines.
+void write_obj(const fs::path& path, const modeling::TreeMesh& mesh, const Eigen::Vector3d& shift,
+               const Skeleton* skeleton, const Eigen::Vector3d& skeleton_shift) {
+  write_atomically(path, [&](std::ostream& out) {
+    std::string line;
+    auto vertex = [&](const Eigen::Vector3d& p) {
+      line = "v";
+      for (int a = 0; a < 3; ++a) {
+        line += ' ';
+        detail::append_number(line, p[a]);
+      }
+      line += '\n';
+      out << line;
+    };
+    out << "# treeskel tree model\no wood\n";
+    for (auto v : mesh.vertices()) {
+      const auto p = mesh.point(v);
+      vertex(Eigen::Vector3d(p[0], p[1], p[2]) + shift);
+    }
+    for (auto f : mesh.faces()) {
+      line = "f";
+      for (auto v : mesh.fv_range(f)) line += ' ' + std::to_string(v.idx() + 1);
+      line += '\n';
+      out << line;
+    }
+    if (!skeleton) return;
+    const auto& g = skeleton->graph;
+    out << "o skeleton\n";
+    for (NodeId v = 0; v < boost::num_vertices(g); ++v) vertex(g[v].position + skeleton_shift);
+    const std::size_t base = mesh.n_vertices() + 1;
+    for (auto [it, end] = boost::edges(g); it != end; ++it)
+      out << "l " << base + boost::source(*it, g) << ' ' << base + boost::target(*it, g) << '\n';
+  });
+}
+
+/// Sets the translation of the root node of a glTF document (JSON) to `t`, in double precision
+/// (assimp holds node transforms in 32-bit floats, which would round a georeferenced offset).
+void set_root_translation(nlohmann::json& doc, const Eigen::Vector3d& t) {
+  const std::size_t root = doc.at("scenes").at(doc.value("scene", 0)).at("nodes").at(0).get<std::size_t>();
+  auto& node = doc.at("nodes").at(root);
+  std::vector<double> m(16, 0.0);
+  if (node.contains("matrix")) m = node["matrix"].get<std::vector<double>>();
+  else m[0] = m[5] = m[10] = m[15] = 1.0;
+  for (int a = 0; a < 3; ++a) m[static_cast<std::size_t>(12 + a)] = t[a];  // column-major: the last column
+  node["matrix"] = m;
+}
+
+/// The same in a .gltf (JSON text) or .glb (binary container: header, JSON chunk, BIN chunk) file.
+void patch_root_translation(const fs::path& file, bool binary, const Eigen::Vector3d& t) {
+  std::string data = read_whole_file(file);
+  std::string out;
+  if (!binary) {
+    nlohmann::json doc = nlohmann::json::parse(data);
+    set_root_translation(doc, t);
+    out = doc.dump();
+  } else {
+    auto u32 = [&](std::size_t at) {
+      std::uint32_t v = 0;
+      std::memcpy(&v, data.data() + at, 4);
+      return v;
+    };
+    if (data.size() < 20 || data.compare(0, 4, "glTF") != 0 || data.compare(16, 4, "JSON") != 0)
+      throw Error("cannot write " + file.string() + ": assimp wrote no GLB JSON chunk");
+    const std::size_t json_length = u32(12);
+    nlohmann::json doc = nlohmann::json::parse(data.substr(20, json_length));
+    set_root_translation(doc, t);
+    std::string json = doc.dump();
+    json.append((4 - json.size() % 4) % 4, ' ');  // chunks are 4-byte aligned, JSON padded with spaces
+    const std::string rest = data.substr(20 + json_length);
+    auto put = [&](std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
+    out = data.substr(0, 8);
+    put(static_cast<std::uint32_t>(12 + 8 + json.size() + rest.size()));
+    put(static_cast<std::uint32_t>(json.size()));
+    out += "JSON";
+    out += json;
+    out += rest;
+  }
+  std::ofstream stream(file, std::ios::binary | std::ios::trunc);
+  stream.write(out.data(), static_cast<std::streamsize>(out.size()));
+  stream.close();
+  if (!stream) throw Error("cannot write " + file.string() + ": the disk refused the data");
+}
+
 }  // namespace
 
 bool is_mesh_extension(const fs::path& path) { return formats().count(extension_of(path)) > 0; }
 
-void write_mesh(const fs::path& path, const modeling::TreeMesh& mesh, const Eigen::Vector3d& offset,
-                const Skeleton* skeleton) {
+MeshPlacement write_mesh(const fs::path& path, const modeling::TreeMesh& mesh, const Eigen::Vector3d& offset,
+                         const Skeleton* skeleton) {
+  MeshFrame frame;
+  frame.offset = offset;
+  return write_mesh(path, mesh, frame, skeleton);
+}
+
+MeshPlacement write_mesh(const fs::path& path, const modeling::TreeMesh& mesh, const MeshFrame& frame,
+                         const Skeleton* skeleton) {
   const std::string ext = extension_of(path);
   const auto format = formats().find(ext);
   if (format == formats().end())
     throw OptionError(path.string() + ": unknown mesh extension '." + ext + "'; use .obj, .gltf, .glb, .ply or .stl");
   if (mesh.n_faces() == 0) throw InputError("the mesh is empty: nothing to write to " + path.string());
-  const auto scene = make_scene(mesh, offset, skeleton);
+  if (!frame.offset.allFinite() || !frame.up.allFinite() || frame.up.norm() == 0.0)
+    throw OptionError("cannot write " + path.string() + ": the offset and the up axis must be finite, the up axis not zero");
+  MeshPlacement placed;
+  const bool gltf = ext == "gltf" || ext == "glb";
+  // The coordinates written are local + shift: the whole offset, or none of it.
+  Eigen::Vector3d shift = frame.local ? Eigen::Vector3d::Zero() : frame.offset;
+  if (frame.local) {
+    placed.left_out = frame.offset;
+    placed.note = "local coordinates, as asked";
+  } else if (gltf) {
+    shift.setZero();  // the offset goes into the root node instead
+  } else if (ext == "ply" || ext == "stl") {
+    Eigen::AlignedBox3d box;
+    for (auto v : mesh.vertices()) {
+      const auto p = mesh.point(v);
+      box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
+    }
+    const double far = (box.min() + frame.offset).cwiseAbs().cwiseMax((box.max() + frame.offset).cwiseAbs()).maxCoeff();
+    // A 32-bit float rounds by up to 2^-24 of the value.
+    if (far * std::ldexp(1.0, -24) > 1e-5 * box.sizes().maxCoeff()) {
+      shift.setZero();
+      placed.left_out = frame.offset;
+      placed.note = "local coordinates: 32-bit floats would round the input's frame by more than 1e-5 of the tree's size";
+    }
+  }
+  const Eigen::Vector3d skeleton_shift = skeleton ? Eigen::Vector3d(skeleton->offset - frame.offset + shift) : shift;
+  if (ext == "obj") {
+    write_obj(path, mesh, shift, skeleton, skeleton_shift);
+    return placed;
+  }
+  const Eigen::Matrix3d rotation = gltf ? y_up_rotation(frame.up) : Eigen::Matrix3d::Identity();
+  placed.y_up_rotation = gltf && !rotation.isIdentity();
+  const auto scene = make_scene(mesh, shift, skeleton, skeleton_shift, rotation);
   // assimp writes to a file name of its own choosing for side files (.bin of .gltf), so the export
   // goes into a private folder first and its files are moved beside the target when all is written.
   TempDir temp(path);
@@ -137,11 +280,13 @@ void write_mesh(const fs::path& path, const modeling::TreeMesh& mesh, const Eige
   const fs::path staged = temp.path / path.filename();
   if (exporter.Export(scene.get(), format->second, staged.string()) != AI_SUCCESS)
     throw Error("cannot write " + path.string() + ": " + exporter.GetErrorString());
+  if (gltf) patch_root_translation(staged, ext == "glb", frame.local ? Eigen::Vector3d::Zero() : Eigen::Vector3d(rotation * frame.offset));
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
   // The main file last, so that it never refers to a side file not there yet.
   for (const auto& entry : fs::directory_iterator(temp.path))
     if (entry.path().filename() != path.filename()) fs::rename(entry.path(), dir / entry.path().filename());
   fs::rename(staged, path);
+  return placed;
 }
 
 modeling::TreeMesh read_mesh(const fs::path& path) {
@@ -149,7 +294,7 @@ modeling::TreeMesh read_mesh(const fs::path& path) {
   // Normals (per face in STL) would keep copies of a position apart: drop them, then join.
   importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TEXCOORDS | aiComponent_COLORS);
   const aiScene* scene =
-      importer.ReadFile(path.string(), aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices);
+      importer.ReadFile(path.string(), aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices);
   if (scene == nullptr) throw InputError(path.string() + ": " + importer.GetErrorString());
   modeling::TreeMesh mesh;
   for (unsigned i = 0; i < scene->mNumMeshes; ++i) {

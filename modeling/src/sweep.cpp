@@ -4,6 +4,7 @@
 #include "treeskel/error.h"
 #include "treeskel/geometry.h"
 #include "treeskel/modeling/chains.h"
+#include "mesh_union.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
@@ -28,6 +29,13 @@ namespace {
 using Eigen::Vector3d;
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxJunctionIterations = 80;
+/// A chain longer than this many radii between its end rings has room for its tube whatever way it
+/// turns (the rings laid along it are checked one against the next).
+constexpr double kRoomyChain = 4.0;
+/// Rounds of collapsing the slivers of a union that cross a neighbour once rounded to floats, and
+/// the longest edge (in weld distances) such a collapse may remove.
+constexpr int kSliverRounds = 4;
+constexpr double kSliverEdges = 1000.0;
 
 /// Circumradius factor that gives a regular n-gon the area of the circle it stands for.
 double area_factor(int sides) {
@@ -151,6 +159,7 @@ struct Attempt {
   std::size_t thinned = 0;     // branches thinned so that the joins at both their ends fit
   std::size_t dropped = 0;     // ... and left out when thinning did not do
   std::vector<NodeId> shrink;  // subtrees (by their top node) to thin, then try again
+  std::vector<NodeId> detached;  // subtrees (by their top node) left out of this sweep, swept apart
   // The surface as a triangle soup, in parts: a join's hull, a tube's band between two adjacent
   // rings, its base cap or its tip cone. Parts that share a ring meet only at that ring (a ring's
   // plane has its band on one side and the next band or the join on the other), so only parts that
@@ -248,9 +257,17 @@ class Builder {
         }
         const Arm& arm = cl.arms[*failed];
         const auto& chain = t_.chains[arm.chain];
-        if (arm.kind == Arm::leaf) {  // a twig that never leaves the hull: the hull stands for it
+        const double length = lines_[arm.chain].length();
+        if (arm.kind == Arm::leaf && length > o_.absorb_length * last_reach_ / o_.join_reach) {
+          detach(arm.chain, attempt, dirty);  // a long twig whose ring does not fit: swept apart
+        } else if (arm.kind == Arm::leaf) {  // a twig that never leaves the hull: the hull stands for it
           absorbed_[arm.chain] = true;
           ++attempt.absorbed;
+        } else if (arm.kind == Arm::root && length > last_reach_ &&
+                   cl.arms[last_partner_].kind != Arm::root) {
+          // The base is far from this join: the branch whose ring would not let the base's ring fit
+          // is swept apart, rather than the hull reaching down to the base.
+          detach(cl.arms[last_partner_].chain, attempt, dirty);
         } else if (arm.kind == Arm::inner) {
           if (!compact_merge(uf, chain.nodes.front(), chain.nodes.back()) && thin_or_drop(arm.chain, attempt, dirty)) {
             changed = true;  // the upper branch was thinned or left out rather than bulge a hull
@@ -287,7 +304,12 @@ class Builder {
         Ring first = ring_at(pl, s0, sides_[c]), last = ring_at(pl, s1, sides_[c]);
         first.radius *= ja ? ring_neck_[c][0] : 1.0;
         last.radius *= jb ? ring_neck_[c][1] : 1.0;
-        if (s1 - s0 > 0.05 * pl.length() && compatible(first, last, eps_)) continue;
+        // A chain many radii long has room between its end rings even when it curls so that they
+        // face apart: the rings laid along it in between keep its tube from crossing itself.
+        const double room = s1 - s0;
+        if (room > 0.05 * pl.length() &&
+            (compatible(first, last, eps_) || room > kRoomyChain * std::max(first.radius, last.radius)))
+          continue;
         if (ja && jb && !compact_merge(uf, a, b)) {
           std::vector<std::size_t> touched;
           if (thin_or_drop(c, attempt, touched)) {  // the upper branch was thinned or left out
@@ -394,6 +416,7 @@ class Builder {
         return std::nullopt;
       }
       const std::size_t i = *failed, j = partner[i];
+      last_reach_ = reach;
       const bool short_twig = cl.arms[i].kind == Arm::leaf && cl.arms[i].available < reach;
       if (!short_twig && neck_round < o_.max_necks) {
         // A narrow fork: both arms are thinned where they meet, so that their rings clear each
@@ -403,7 +426,11 @@ class Builder {
         continue;
       }
       // A twig is given up before two joins are merged.
-      if (cl.arms[i].kind != Arm::leaf && cl.arms[j].kind == Arm::leaf) return j;
+      if (cl.arms[i].kind != Arm::leaf && cl.arms[j].kind == Arm::leaf) {
+        last_partner_ = i;
+        return j;
+      }
+      last_partner_ = j;
       return i;
     }
   }
@@ -507,12 +534,24 @@ class Builder {
         for (double& r : lines_[d].r) r *= o_.repair_shrink;
     } else if (!limb && t_.chains[c].nodes.front() != sk_.root) {
       ++attempt.dropped;
+      attempt.detached.push_back(chain_top(c));
       for (std::size_t d : chains) absorbed_[d] = true;
     } else {
       return false;
     }
     for (std::size_t d : chains) touched.insert(touched.end(), {t_.chains[d].nodes.front(), t_.chains[d].nodes.back()});
     return true;
+  }
+
+  /// Leaves chain `c` and all it carries out of this sweep, for `sweep_mesh` to sweep apart and
+  /// unite; the joins at its ends are placed again.
+  void detach(std::size_t c, Attempt& attempt, std::vector<std::size_t>& touched) {
+    ++attempt.dropped;
+    attempt.detached.push_back(chain_top(c));
+    for (std::size_t d : carried_chains(c)) {
+      absorbed_[d] = true;
+      touched.insert(touched.end(), {t_.chains[d].nodes.front(), t_.chains[d].nodes.back()});
+    }
   }
 
   /// A tube's rings, from the first (at a join or the base) to the last (at a join or before the tip).
@@ -770,6 +809,8 @@ class Builder {
   std::vector<std::array<double, 2>> ring_neck_;  // per chain: neck factor of those rings
   std::vector<std::array<double, 2>> ring_d_;  // per chain: ring distance from its start's join, its end's join
   std::map<std::size_t, Cluster> clusters_;
+  double last_reach_ = 0.0;         // reach of the join `solve` last failed at
+  std::size_t last_partner_ = 0;    // the arm whose ring the failed arm's could not clear
 };
 
 /// The attempt's triangles as one OpenMesh mesh; faces OpenMesh refuses (a non-manifold spot) ask
@@ -984,25 +1025,14 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
   return compact_nodes(sk, keep);
 }
 
-}  // namespace
-
-TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, SweepStats* stats) {
-  if (options.min_segments < 3 || options.max_segments < options.min_segments || options.trunk_segments < 3)
-    throw OptionError("segments around a branch: need 3 <= min <= max and at least 3 around the trunk");
-  if (options.min_radius < 0.0 || options.min_relative_radius < 0.0 || options.min_relative_radius >= 1.0)
-    throw OptionError("the minimum branch radius must not be negative (and the relative one below 1)");
-  if (!(options.ring_spacing > 0.0) || !(options.max_turn > 0.0)) throw OptionError("ring spacing and turn must be positive");
-  if (!(options.repair_shrink > 0.0 && options.repair_shrink < 1.0)) throw OptionError("the repair shrink factor must be in (0, 1)");
+/// Sweeps what of `skeleton` fits together into one valid mesh. Subtrees that a join or a crossing
+/// left no room for are not swept here: their nodes go to `detached`, for `sweep_mesh` to sweep
+/// apart and unite with this mesh.
+TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, SweepStats& st,
+                        std::vector<NodeId>& detached) {
   const ChainTree tree = build_chains(skeleton);
   const auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
-  if (n < 2) throw InputError("the skeleton has no branch to sweep (a single node)");
-  for (NodeId v = 0; v < n; ++v)
-    if (!(g[v].radius > 0.0) || !std::isfinite(g[v].radius))
-      throw InputError("skeleton node " + std::to_string(v) + " has radius " + std::to_string(g[v].radius) +
-                       "; every radius must be positive (fit the radii first)");
-
-  SweepStats st;
   double max_radius = 0.0;
   for (NodeId v = 0; v < n; ++v) max_radius = std::max(max_radius, g[v].radius);
   std::vector<bool> keep(n, true);
@@ -1011,6 +1041,11 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
   std::vector<double> own_scale(n, 1.0);  // per subtree top: the thinning applied to it
   auto drop = [&](NodeId top) {
     for (NodeId v : subtree(tree.children, top)) keep[v] = false;
+  };
+  // The base chain (the one chain leaving a root with one child) is never swept apart: the rest of
+  // the tree hangs from it.
+  auto is_base = [&](NodeId top) {
+    return top == skeleton.root || (tree.parent[top] == skeleton.root && tree.children[skeleton.root].size() == 1);
   };
   const double thinnest = std::max(options.min_radius, options.min_relative_radius * max_radius);
   for (const auto& c : tree.chains)
@@ -1021,17 +1056,8 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
   if (!keep[tree.chains.front().nodes[1]] && tree.children[skeleton.root].size() == 1)
     throw InputError("every branch is thinner than the minimum radius; nothing is left to mesh");
 
-  // The sweep needs positions, radii and edges only: each attempt copies this, not the point lists.
-  Skeleton shape;
-  shape.root = skeleton.root;
-  for (NodeId v = 0; v < n; ++v) {
-    SkeletonNode node;
-    node.position = g[v].position;
-    node.radius = g[v].radius;
-    add_node(shape, node);
-  }
-  for (auto [it, end] = boost::edges(g); it != end; ++it) boost::add_edge(boost::source(*it, g), boost::target(*it, g), shape.graph);
 
+  const Skeleton& shape = skeleton;  // positions, radii and edges only (see sweep_mesh)
   Builder::HullCache hulls;
   const int max_attempts = 4 * static_cast<int>(n) + 50;
   std::optional<TreeMesh> best;
@@ -1055,6 +1081,14 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
     }
 
     ++st.attempts;
+    // The subtrees the builder left out, as it saw them: a branch re-attached to a thicker one hangs
+    // from it there, so the whole subtree under each top (in `pruned`) goes, mapped back.
+    auto record_detached = [&](const Skeleton& p, const std::vector<NodeId>& ids, const std::vector<NodeId>& tops) {
+      if (tops.empty()) return;
+      const ChainTree pt = build_chains(p);
+      for (NodeId top : tops)
+        for (NodeId v : subtree(pt.children, top)) detached.push_back(ids[v]);
+    };
     Builder builder(pruned, options, hulls);
     Attempt a = builder.run();
     st.branches = a.branches;
@@ -1068,13 +1102,14 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
     // when nothing changed (the trunk, which may not go, at its floor).
     auto thin_or_drop = [&](NodeId top, double factor) {
       const bool limb = g[top].radius >= options.max_drop_radius * max_radius;
-      const int budget = (limb && top != skeleton.root ? 2 : 1) * options.max_shrinks;
+      const int budget = (limb && !is_base(top) ? 2 : 1) * options.max_shrinks;
       const double floor = std::pow(options.repair_shrink, budget);
       const bool at_floor = own_scale[top] <= floor * (1.0 + 1e-9);
       if (own_scale[top] * factor < floor * (1.0 - 1e-9)) {
-        // A twig goes at once; a limb is first thinned to its floor.
-        if (top != skeleton.root && (!limb || at_floor)) {
+        // A twig is swept apart at once; a limb is first thinned to its floor.
+        if (!is_base(top) && (!limb || at_floor)) {
           drop(top);
+          for (NodeId v : subtree(tree.children, top)) detached.push_back(v);
           ++st.repaired_dropped;
           return true;
         }
@@ -1106,7 +1141,7 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
         const bool first_thinner = a.owner_radius[f1] <= a.owner_radius[f2];
         const NodeId thin = old_id[a.face_owner[first_thinner ? f1 : f2]];
         const NodeId thick = old_id[a.face_owner[first_thinner ? f2 : f1]];
-        const bool swap = shrinks[thin] >= 2 && thick != skeleton.root && shrinks[thick] < shrinks[thin];
+        const bool swap = shrinks[thin] >= 2 && !is_base(thick) && shrinks[thick] < shrinks[thin];
         double f = options.repair_shrink;
         if (parts)
           if (const auto clear = clearing_factor(a, a.face_part[first_thinner != swap ? f1 : f2], a.face_part[first_thinner != swap ? f2 : f1]))
@@ -1137,23 +1172,286 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
     }
     if (!options.repair) {
       best = std::move(mesh);
+      record_detached(pruned, old_id, a.detached);
       break;
     }
     const auto pairs = self_intersecting_faces(*mesh);
     st.self_intersections = pairs.size();
     if (pairs.empty() || !may_repair) {
       best = std::move(mesh);
+      record_detached(pruned, old_id, a.detached);
       break;
     }
     ++st.late_repair_rounds;
     if (!repair(pairs, false)) {
       best = std::move(mesh);
+      record_detached(pruned, old_id, a.detached);
       break;
     }
   }
   if (!best) throw Error("could not build a valid mesh of this skeleton");
-  if (stats) *stats = st;
   return std::move(*best);
+}
+
+/// The branch of the original skeleton that holds `top`, from the fork it leaves, with all it
+/// carries, as a skeleton of its own. The fork is its root and takes the branch's first radius, so
+/// that the piece starts inside the parent it hangs from (a branch re-attached where it left a
+/// thicker one gets back its hidden base here).
+Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top) {
+  const auto& chain = tree.chains[static_cast<std::size_t>(tree.chain_of[top])].nodes;
+  Skeleton piece;
+  piece.offset = skeleton.offset;
+  std::map<NodeId, NodeId> id;
+  auto add = [&](NodeId v, double radius) {
+    SkeletonNode node;
+    node.position = skeleton[v].position;
+    node.radius = radius;
+    id[v] = add_node(piece, node);
+  };
+  add(chain.front(), skeleton[chain[1]].radius);
+  piece.root = id[chain.front()];
+  // The fork may lie outside its join's hull (between rings set far apart at a narrow fork): the
+  // piece starts a little further back, on the parent's axis, which the parent's tube holds.
+  const NodeId fork = chain.front();
+  // Toward the parent, or at a root with several branches, toward the thickest other one.
+  NodeId toward = tree.parent[fork];
+  if (toward == fork)
+    for (NodeId c : tree.children[fork])
+      if (c != chain[1] && (toward == fork || skeleton[c].radius > skeleton[toward].radius)) toward = c;
+  if (toward != fork) {
+    const Vector3d back = skeleton[toward].position - skeleton[fork].position;
+    const double reach = std::min(back.norm(), skeleton[fork].radius);
+    if (reach > 0.0) {
+      SkeletonNode node;
+      node.position = skeleton[fork].position + back.normalized() * reach;
+      node.radius = skeleton[chain[1]].radius;
+      const NodeId stub = add_node(piece, node);
+      boost::add_edge(stub, piece.root, piece.graph);
+      piece.root = stub;
+    }
+  }
+  for (NodeId v : subtree(tree.children, chain[1])) {
+    add(v, skeleton[v].radius);
+    boost::add_edge(id[tree.parent[v]], id[v], piece.graph);
+  }
+  return piece;
+}
+
+void add_counts(SweepStats& to, const SweepStats& from) {
+  to.branches += from.branches;
+  to.junctions += from.junctions;
+  to.merged_forks += from.merged_forks;
+  to.thin_left_out += from.thin_left_out;
+  to.relocated_branches += from.relocated_branches;
+  to.twigs_absorbed += from.twigs_absorbed;
+  to.joins_thinned += from.joins_thinned;
+  to.joins_dropped += from.joins_dropped;
+  to.repaired_shrunk += from.repaired_shrunk;
+  to.repaired_dropped += from.repaired_dropped;
+  to.repair_rounds += from.repair_rounds;
+  to.late_repair_rounds += from.late_repair_rounds;
+  to.attempts += from.attempts;
+  to.pieces += from.pieces;
+  to.pieces_apart += from.pieces_apart;
+  to.pieces_failed += from.pieces_failed;
+  to.unions += from.unions;
+  to.welded_edges += from.welded_edges;
+}
+
+/// The path through `nodes` of `sk` as a skeleton rooted at its first node.
+Skeleton path_of(const Skeleton& sk, const std::vector<NodeId>& nodes) {
+  Skeleton path;
+  path.offset = sk.offset;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    SkeletonNode node;
+    node.position = sk[nodes[i]].position;
+    node.radius = sk[nodes[i]].radius;
+    add_node(path, node);
+    if (i > 0) boost::add_edge(i - 1, i, path.graph);
+  }
+  path.root = 0;
+  return path;
+}
+
+/// A copy of `mesh` (same vertex and face order) at the 32-bit floats its points become in the
+/// frame `offset` leads to.
+TreeMesh in_world_floats(const TreeMesh& mesh, const Eigen::Vector3d& offset) {
+  TreeMesh out;
+  std::vector<TreeMesh::VertexHandle> handle;
+  for (auto v : mesh.vertices()) {
+    const auto p = mesh.point(v);
+    TreeMesh::Point q;
+    for (int a = 0; a < 3; ++a) q[a] = static_cast<double>(static_cast<float>(p[a] + offset[a]));
+    handle.push_back(out.add_vertex(q));
+  }
+  for (auto f : mesh.faces()) {
+    std::array<TreeMesh::VertexHandle, 3> c;
+    std::size_t k = 0;
+    for (auto v : mesh.fv_range(f)) c[k++] = handle[static_cast<std::size_t>(v.idx())];
+    out.add_face(c[0], c[1], c[2]);
+  }
+  return out;
+}
+
+/// Unites `pieces[first, last)` with `base` (see detail::unite), then collapses the slivers that the
+/// rounding to floats folds over a neighbour, testing in the input's frame on the very floats a
+/// file or MeshLab will hold there (the tree without the pieces may already cross itself there at
+/// `allowed` face pairs, where 32-bit floats merge what doubles keep apart: the union may not add to
+/// them). If crossings remain, the pieces are united in two halves, each
+/// checked, down to single pieces; a piece that still leaves a crossing is left out and counted in
+/// `pieces_failed` (the coverage in the report shows what it held), so the mesh stays valid.
+TreeMesh unite_checked(const TreeMesh& base, const std::vector<TreeMesh>& pieces, std::size_t first, std::size_t last,
+                       const SweepOptions& options, double extent, const Eigen::Vector3d& offset, std::size_t allowed,
+                       SweepStats& st) {
+  if (first == last) return base;
+  const std::vector<TreeMesh> some(pieces.begin() + static_cast<std::ptrdiff_t>(first),
+                                   pieces.begin() + static_cast<std::ptrdiff_t>(last));
+  detail::UnionResult united = detail::unite(base, some, options.weld * extent, offset);
+  TreeMesh mesh = std::move(united.mesh);
+  std::size_t welded = united.welded;
+  if (options.repair) {
+    auto pairs = self_intersecting_faces(in_world_floats(mesh, offset));
+    for (int round = 0; round < kSliverRounds && pairs.size() > allowed; ++round) {
+      std::vector<std::size_t> faces;
+      for (const auto& [a, b] : pairs) faces.insert(faces.end(), {a, b});
+      std::sort(faces.begin(), faces.end());
+      faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+      const std::size_t collapsed = detail::collapse_shortest_edges(mesh, faces, kSliverEdges * options.weld * extent);
+      if (collapsed == 0) break;
+      welded += collapsed;
+      pairs = self_intersecting_faces(in_world_floats(mesh, offset));
+    }
+    st.float_crossings = pairs.size();
+    if (pairs.size() > allowed) {
+      st.float_crossings = allowed;
+      if (last - first == 1) {
+        ++st.pieces_failed;
+        if (st.pieces > 0) --st.pieces;
+        return base;
+      }
+      const std::size_t mid = first + (last - first) / 2;
+      const TreeMesh half = unite_checked(base, pieces, first, mid, options, extent, offset, allowed, st);
+      return unite_checked(half, pieces, mid, last, options, extent, offset, allowed, st);
+    }
+  }
+  st.welded_edges += welded;
+  st.unions += united.batches;
+  st.pieces_apart += united.failed;
+  return mesh;
+}
+
+/// Sweeps `piece` on its own into `out`, split until its parts sweep (see sweep_mesh).
+void sweep_piece(const Skeleton& piece, const SweepOptions& options, SweepStats& st, std::vector<TreeMesh>& out) {
+  SweepStats piece_stats;
+  try {
+    TreeMesh mesh = sweep_mesh(piece, options, &piece_stats);
+    if (options.repair && piece_stats.self_intersections > 0) throw Error("the piece crosses itself");
+    out.push_back(std::move(mesh));
+    add_counts(st, piece_stats);
+    ++st.pieces;
+    return;
+  } catch (const Error&) {
+  }
+  // A piece that cannot be swept whole is split: each branch leaving its base chain's end (or its
+  // root) apart, and the base chain in two overlapping halves, until a single segment.
+  const ChainTree t = build_chains(piece);
+  if (t.children[piece.root].size() > 1) {
+    for (const auto& c : t.chains)
+      if (c.nodes.front() == piece.root) sweep_piece(piece_of(piece, t, c.nodes[1]), options, st, out);
+    return;
+  }
+  const auto& base = t.chains.front();
+  for (std::size_t c : base.children) sweep_piece(piece_of(piece, t, t.chains[c].nodes[1]), options, st, out);
+  if (base.nodes.size() < 3) {
+    ++st.pieces_failed;  // a single segment that cannot be swept: said in the report
+    return;
+  }
+  const std::size_t m = base.nodes.size() / 2;
+  const std::vector<NodeId> first(base.nodes.begin(), base.nodes.begin() + static_cast<std::ptrdiff_t>(m) + 1);
+  const std::vector<NodeId> second(base.nodes.begin() + static_cast<std::ptrdiff_t>(m > 1 ? m - 1 : m), base.nodes.end());
+  sweep_piece(path_of(piece, first), options, st, out);
+  sweep_piece(path_of(piece, second), options, st, out);
+}
+
+}  // namespace
+
+TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, SweepStats* stats) {
+  if (options.min_segments < 3 || options.max_segments < options.min_segments || options.trunk_segments < 3)
+    throw OptionError("segments around a branch: need 3 <= min <= max and at least 3 around the trunk");
+  if (options.min_radius < 0.0 || options.min_relative_radius < 0.0 || options.min_relative_radius >= 1.0)
+    throw OptionError("the minimum branch radius must not be negative (and the relative one below 1)");
+  if (!(options.ring_spacing > 0.0) || !(options.max_turn > 0.0)) throw OptionError("ring spacing and turn must be positive");
+  if (!(options.repair_shrink > 0.0 && options.repair_shrink < 1.0)) throw OptionError("the repair shrink factor must be in (0, 1)");
+  const ChainTree tree = build_chains(skeleton);
+  const auto& g = skeleton.graph;
+  const std::size_t n = boost::num_vertices(g);
+  if (n < 2) throw InputError("the skeleton has no branch to sweep (a single node)");
+  double max_radius = 0.0;
+  for (NodeId v = 0; v < n; ++v) {
+    if (!(g[v].radius > 0.0) || !std::isfinite(g[v].radius))
+      throw InputError("skeleton node " + std::to_string(v) + " has radius " + std::to_string(g[v].radius) +
+                       "; every radius must be positive (fit the radii first)");
+    max_radius = std::max(max_radius, g[v].radius);
+  }
+
+  SweepStats st;
+  // The sweep needs positions, radii and edges only; radii under the floor are raised to it.
+  const double floor = options.min_relative_radius * max_radius;
+  Skeleton shape;
+  shape.root = skeleton.root;
+  shape.offset = skeleton.offset;
+  for (NodeId v = 0; v < n; ++v) {
+    SkeletonNode node;
+    node.position = g[v].position;
+    node.radius = g[v].radius;
+    if (node.radius < floor) {
+      node.radius = floor;
+      ++st.raised_to_floor;
+    }
+    add_node(shape, node);
+  }
+  for (auto [it, end] = boost::edges(g); it != end; ++it) boost::add_edge(boost::source(*it, g), boost::target(*it, g), shape.graph);
+  SweepOptions o = options;
+  o.min_relative_radius = 0.0;  // applied above, once for the whole tree
+
+  std::vector<NodeId> detached;
+  TreeMesh mesh = sweep_attached(shape, o, st, detached);
+  if (!detached.empty() && !options.unite_apart) {
+    std::vector<bool> apart(n, false);
+    for (NodeId v : detached) apart[v] = true;
+    for (NodeId v = 0; v < n; ++v)
+      if (apart[v] && !apart[tree.parent[v]]) ++st.pieces_failed;  // left out, as asked
+  } else if (!detached.empty()) {
+    // Each subtree left out above is swept on its own, and the pieces are united with the mesh: a
+    // limb is never lost for want of room at a join.
+    // One piece per branch, none inside another's piece.
+    std::vector<bool> taken(n, false);
+    std::vector<bool> apart(n, false);
+    for (NodeId v : detached) apart[v] = true;
+    std::vector<NodeId> tops;
+    for (NodeId v = 0; v < n; ++v)
+      if (apart[v] && v != shape.root && !apart[tree.parent[v]])
+        tops.push_back(tree.chains[static_cast<std::size_t>(tree.chain_of[v])].nodes[1]);
+    std::sort(tops.begin(), tops.end(), [&](NodeId a, NodeId b) { return tree.chain_of[a] < tree.chain_of[b]; });
+    tops.erase(std::unique(tops.begin(), tops.end()), tops.end());
+    std::vector<TreeMesh> pieces;
+    for (NodeId top : tops) {
+      if (taken[top]) continue;
+      for (NodeId v : subtree(tree.children, top)) taken[v] = true;
+      sweep_piece(piece_of(shape, tree, top), o, st, pieces);
+    }
+    Eigen::AlignedBox3d box;
+    for (NodeId v = 0; v < n; ++v) box.extend(g[v].position);
+    // The frame files will hold: the input's, unless 32-bit floats would round it by more than 1e-5
+    // of the tree's size (a georeferenced tree), when they hold local coordinates (io/mesh_io.h).
+    const double far = (box.min() + skeleton.offset).cwiseAbs().cwiseMax((box.max() + skeleton.offset).cwiseAbs()).maxCoeff();
+    const Eigen::Vector3d frame =
+        far * std::ldexp(1.0, -24) > 1e-5 * box.sizes().maxCoeff() ? Eigen::Vector3d::Zero() : skeleton.offset;
+    const std::size_t allowed = options.repair ? self_intersecting_faces(in_world_floats(mesh, frame)).size() : 0;
+    mesh = unite_checked(mesh, pieces, 0, pieces.size(), options, box.sizes().maxCoeff(), frame, allowed, st);
+  }
+  if (stats) *stats = st;
+  return mesh;
 }
 
 }  // namespace treeskel::modeling

@@ -2,11 +2,13 @@
 #include "bridge.h"
 
 #include "treeskel/error.h"
+#include "treeskel/modeling/coverage.h"
 #include "treeskel/modeling/measurements.h"
 #include "treeskel/modeling/radii.h"
 #include "treeskel/modeling/sweep.h"
 #include "treeskel/pipeline.h"
 
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -213,8 +215,11 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
             << (!m.dbh ? std::string("n/a")
                        : format(*m.dbh) + modeling::dbh_note(m))
             << ", wood volume " << format(m.volume);
-    if (stats.thin_left_out + stats.joins_dropped + stats.repaired_dropped > 0)
-      summary << "; " << stats.thin_left_out + stats.joins_dropped + stats.repaired_dropped << " thin branches left out";
+    const modeling::SkeletonCoverage coverage = modeling::skeleton_coverage(skeleton, mesh);
+    summary << "; " << std::lround(100.0 * coverage.share()) << "% of the skeleton inside the mesh";
+    if (stats.pieces > 0) summary << " (" << stats.pieces << " limbs swept apart and united)";
+    if (stats.thin_left_out + stats.pieces_failed > 0)
+      summary << "; " << stats.thin_left_out + stats.pieces_failed << " branches left out";
     layer.summary = summary.str();
     report(progress, "done", 1.0, 0, 100);
     out = std::move(layer);

@@ -1,5 +1,6 @@
 // End-to-end runs of the treeskel command on real files.
 #include "support/synthetic.h"
+#include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/io/skeleton_io.h"
 
@@ -170,6 +171,9 @@ TEST(Cli, ModelTurnsTheExampleIntoAGlbWithReportAndQsm) {
   EXPECT_EQ(j["mesh"]["self_intersections"].get<int>(), 0);
   EXPECT_EQ(j["mesh"]["components"].get<int>(), 1);
   EXPECT_GT(j["mesh"]["volume"].get<double>(), 0.0);
+  EXPECT_GE(j["mesh"]["skeleton_coverage"].get<double>(), 0.95);
+  EXPECT_NE(r.out.find("% of the skeleton inside"), std::string::npos) << r.out;
+  EXPECT_TRUE(j["frame"]["y_up_rotation"].get<bool>());  // glTF is Y up; the cloud is Z up
   ASSERT_TRUE(j["measurements"].contains("dbh"));
   EXPECT_GT(j["measurements"]["dbh"].get<double>(), 0.0);  // the rTwig tree is 3.7 m tall
   EXPECT_EQ(j["measurements"]["dbh_source"], "points");   // a circle fitted at breast height
@@ -185,6 +189,26 @@ TEST(Cli, ModelTurnsTheExampleIntoAGlbWithReportAndQsm) {
   EXPECT_TRUE(fs::exists(dir.path("again.obj")));
 }
 
+// AdTree's tree1 (bundled): forks whose joins leave no room for a limb. The mesh holds the whole
+// skeleton, and the file, read back as a viewer reads it, is the mesh that was checked.
+TEST(Cli, ModelOfACrowdedCrownHoldsTheWholeSkeletonInTheFile) {
+  test::TempDir dir;
+  const std::string cloud = test::data_file("tree_adtree1.xyz");
+  const Result r = run("model " + cloud + " -o tree.ply --report report.json", dir.root());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;
+  std::ifstream in(dir.path("report.json"));
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_GE(j["mesh"]["skeleton_coverage"].get<double>(), 0.97);
+  EXPECT_GT(j["mesh"]["pieces_united"].get<int>(), 0);
+  EXPECT_EQ(j["mesh"]["pieces_failed"].get<int>(), 0);
+  EXPECT_EQ(j["mesh"]["components"].get<int>(), 1);
+  const modeling::TreeMesh back = io::read_mesh(dir.path("tree.ply"));
+  EXPECT_EQ(back.n_faces(), j["mesh"]["triangles"].get<std::size_t>());
+  const modeling::MeshCheck check = modeling::check_mesh(back, true);
+  EXPECT_TRUE(check.ok()) << check.problem();
+}
+
 TEST(Cli, ModelFormatsAndBadUse) {
   test::TempDir dir;
   const std::string cloud = quoted(test::data_file("tree_adtree1.xyz"));
@@ -197,11 +221,22 @@ TEST(Cli, ModelFormatsAndBadUse) {
   EXPECT_EQ(bad_ext.code, 1);
   EXPECT_NE(bad_ext.out.find("unknown mesh extension"), std::string::npos) << bad_ext.out;
   EXPECT_FALSE(fs::exists(dir.path("tree.fbx")));
-  // A skeleton with a zero radius, an empty one and one with a cycle are refused; nothing is written.
+  // A skeleton saved by `skeletonize` has zero radii where none was measured: the pipe model fills
+  // them in from the positive ones.
   {
     std::ofstream out(dir.path("zero.json"));
     out << R"({"format":"treeskel skeleton","version":1,"root":0,"nodes":[)"
         << R"({"id":0,"position":[0,0,0],"radius":0.1},{"id":1,"position":[0,0,1],"radius":0}],"edges":[[0,1]]})";
+  }
+  const Result zero = run("model zero.json -o zero.glb", dir.root());
+  EXPECT_EQ(zero.code, 0) << zero.out;
+  EXPECT_NE(zero.out.find("the pipe model fills them in"), std::string::npos) << zero.out;
+  EXPECT_TRUE(fs::exists(dir.path("zero.glb")));
+  // A negative radius, an empty skeleton and one with a cycle are refused; nothing is written.
+  {
+    std::ofstream out(dir.path("negative.json"));
+    out << R"({"format":"treeskel skeleton","version":1,"root":0,"nodes":[)"
+        << R"({"id":0,"position":[0,0,0],"radius":0.1},{"id":1,"position":[0,0,1],"radius":-1}],"edges":[[0,1]]})";
   }
   {
     std::ofstream out(dir.path("cycle.json"));
@@ -213,7 +248,7 @@ TEST(Cli, ModelFormatsAndBadUse) {
     std::ofstream out(dir.path("empty.json"));
     out << R"({"format":"treeskel skeleton","version":1,"root":0,"nodes":[],"edges":[]})";
   }
-  for (const char* name : {"zero", "cycle", "empty"}) {
+  for (const char* name : {"negative", "cycle", "empty"}) {
     const Result r = run(std::string("model ") + name + ".json -o " + name + ".glb", dir.root());
     EXPECT_EQ(r.code, 1) << name << r.out;
     EXPECT_NE(r.out.find("error"), std::string::npos) << r.out;

@@ -7,6 +7,10 @@
 #include "treeskel/modeling/sweep.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <sstream>
 
 #include <algorithm>
 #include <filesystem>
@@ -28,10 +32,11 @@ TEST(MeshIo, EveryFormatReadsBackWithTheSameCounts) {
     EXPECT_EQ(back.n_vertices(), mesh.n_vertices());
     EXPECT_EQ(back.n_faces(), mesh.n_faces());
     EXPECT_TRUE(modeling::check_mesh(back, false).boundary_edges == 0);
-    // The offset goes out with the points.
+    // The offset goes out with the points; glTF is read back as a viewer shows it, Y up.
+    const int up = std::string(ext).rfind("gl", 0) == 0 ? 1 : 2;
     double min_in = 1e300, min_out = 1e300;
     for (auto v : mesh.vertices()) min_in = std::min(min_in, mesh.point(v)[2]);
-    for (auto v : back.vertices()) min_out = std::min(min_out, back.point(v)[2]);
+    for (auto v : back.vertices()) min_out = std::min(min_out, back.point(v)[up]);
     EXPECT_NEAR(min_out, min_in + 30.0, 1e-4);
   }
   EXPECT_TRUE(fs::exists(dir.path("tree.bin")));  // beside the .gltf
@@ -42,6 +47,64 @@ TEST(MeshIo, EveryFormatReadsBackWithTheSameCounts) {
     ++files;
   }
   EXPECT_EQ(files, 6u);
+}
+
+// A georeferenced tree: OBJ keeps every coordinate in double precision, glTF keeps local vertices
+// and the exact offset in its root node (with the turn to Y up), PLY falls back to local coordinates.
+TEST(MeshIo, GeoreferencedMeshesKeepMillimetres) {
+  const Skeleton s = test::y_shape(0.05, 0.6, 10);
+  const modeling::TreeMesh mesh = modeling::sweep_mesh(s);
+  const Eigen::Vector3d offset(269656.1863, 5168602.6421, 110.2612);
+  test::TempDir dir;
+  MeshFrame frame;
+  frame.offset = offset;
+
+  const MeshPlacement obj = write_mesh(dir.path("t.obj"), mesh, frame);
+  EXPECT_TRUE(obj.note.empty());
+  std::ifstream in(dir.path("t.obj"));
+  std::string tag;
+  std::size_t i = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("v ", 0) != 0) continue;
+    std::istringstream v(line.substr(2));
+    Eigen::Vector3d p;
+    v >> p.x() >> p.y() >> p.z();
+    const auto q = mesh.point(modeling::TreeMesh::VertexHandle(static_cast<int>(i++)));
+    EXPECT_LT((p - (Eigen::Vector3d(q[0], q[1], q[2]) + offset)).norm(), 1e-6);
+  }
+  EXPECT_EQ(i, mesh.n_vertices());
+
+  const MeshPlacement glb = write_mesh(dir.path("t.gltf"), mesh, frame);
+  EXPECT_TRUE(glb.y_up_rotation);
+  const auto doc = nlohmann::json::parse(read_whole_file(dir.path("t.gltf")));
+  const auto m = doc["nodes"][0]["matrix"].get<std::vector<double>>();
+  // Z up turned to Y up: (x, y, z) -> (x, z, -y), the offset turned the same way, exactly.
+  EXPECT_EQ(m[12], offset.x());
+  EXPECT_EQ(m[13], offset.z());
+  EXPECT_EQ(m[14], -offset.y());
+  EXPECT_EQ(m[0], 1.0);
+  EXPECT_EQ(m[6], -1.0);  // column 1 (y) goes to -z
+  EXPECT_EQ(m[9], 1.0);   // column 2 (z) goes to +y
+
+  const MeshPlacement ply = write_mesh(dir.path("t.ply"), mesh, frame);
+  EXPECT_FALSE(ply.note.empty());
+  EXPECT_EQ(ply.left_out, offset);
+  const modeling::TreeMesh back = read_mesh(dir.path("t.ply"));
+  EXPECT_EQ(back.n_vertices(), mesh.n_vertices());
+  EXPECT_TRUE(modeling::check_mesh(back, false).boundary_edges == 0);
+}
+
+TEST(MeshIo, GltfOfAZUpTreeIsTallestAlongY) {
+  const modeling::TreeMesh mesh = modeling::sweep_mesh(test::straight(3.0, 0.1, 10));
+  test::TempDir dir;
+  write_mesh(dir.path("t.glb"), mesh, Eigen::Vector3d(5, 6, 7));
+  const modeling::TreeMesh back = read_mesh(dir.path("t.glb"));
+  Eigen::AlignedBox3d box;
+  for (auto v : back.vertices()) box.extend(Eigen::Vector3d(back.point(v)[0], back.point(v)[1], back.point(v)[2]));
+  EXPECT_NEAR(box.sizes().y(), 3.0, 0.06);
+  EXPECT_LT(box.sizes().x(), 0.3);
+  EXPECT_LT(box.sizes().z(), 0.3);
+  EXPECT_NEAR(box.min().y(), 7.0, 1e-4);  // the base at the offset's height
 }
 
 TEST(MeshIo, SkeletonLinesGoBesideTheMesh) {

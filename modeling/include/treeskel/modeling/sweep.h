@@ -15,11 +15,12 @@ struct SweepOptions {
   int min_segments = 6;     ///< fewest polygon sides around a branch
   int max_segments = 48;    ///< most polygon sides around a branch
   /// Branches whose radius where they start is below this are left out with everything they carry
-  /// (input units; 0 keeps every branch).
+  /// (input units; 0, the default, keeps every branch): the only size limit of the mesh.
   double min_radius = 0.0;
-  /// ... and so are branches thinner than this share of the thickest radius: the pipe model can leave
-  /// a twig a millionth of the trunk, whose rings collapse to points in the 32-bit floats every mesh
-  /// format stores, so the saved mesh would no longer be manifold (0 keeps them).
+  /// Radii below this share of the thickest radius are raised to it in the mesh (the skeleton's
+  /// radii, and so the measurements, keep their values). The pipe model can leave a twig a millionth
+  /// of the trunk, whose rings would collapse to points in the 32-bit floats every mesh format
+  /// stores; raised, the twig stays visible and the saved mesh manifold (0: no floor).
   double min_relative_radius = 1e-3;
   /// Along a branch a new ring is laid when the branch has run this many radii since the last one ...
   double ring_spacing = 0.75;
@@ -32,6 +33,11 @@ struct SweepOptions {
   /// Branches meeting at a narrow angle need more room: they are thinned where they meet (a neck)
   /// until their rings fit; a twig shorter than the room is left inside the join.
   double join_reach = 4.0;
+  /// A twig whose ring does not fit at its fork is left inside the join when it is no longer than
+  /// this many radii of the thickest branch there (it then ends inside that branch's wood); a longer
+  /// one is swept apart and united with the tree. So is the branch that keeps the base's ring from
+  /// fitting when the base is farther than `join_reach` from the fork.
+  double absorb_length = 1.0;
   /// Most thinning steps (x0.8 each) at a narrow fork before its neighbouring fork is merged in.
   int max_necks = 10;
   /// Rounds of repair: branches whose surface meets another's are thinned, then left out.
@@ -43,6 +49,13 @@ struct SweepOptions {
   /// Only branches thinner than this share of the thickest radius may be left out by the repair;
   /// thicker ones are thinned further instead.
   double max_drop_radius = 0.25;
+  /// Where limbs swept apart are united with the tree, edges shorter than this share of the tree's
+  /// extent are collapsed: 32-bit floats (every mesh format but OBJ) hold about 1.2e-7 of it, so
+  /// vertices closer than a few of those would merge in the file.
+  double weld = 1e-6;
+  /// Sweep apart and unite the branches a join or a crossing leaves no room for (costly: seconds to
+  /// tens of seconds on crowded crowns). Without it they are left out, and the coverage says how much.
+  bool unite_apart = true;
   /// Run the self-intersection test and the repair (costly on large trees).
   bool repair = true;
 };
@@ -52,13 +65,14 @@ struct SweepStats {
   std::size_t branches = 0;          ///< chains swept into tubes
   std::size_t junctions = 0;         ///< convex-hull joins (a join may hold several close forks)
   std::size_t merged_forks = 0;      ///< forks joined with a neighbour into one hull
-  std::size_t thin_left_out = 0;     ///< branches under `min_radius` or `min_relative_radius`, left out
+  std::size_t thin_left_out = 0;     ///< branches under `min_radius`, left out
+  std::size_t raised_to_floor = 0;   ///< nodes whose radius was raised to `min_relative_radius`
   std::size_t relocated_branches = 0;  ///< narrow-angle branches re-attached where they emerge
   std::size_t twigs_absorbed = 0;    ///< twigs too short to leave their fork's hull, left out
   std::size_t joins_thinned = 0;     ///< branches thinned so that the joins at both their ends fit
-  std::size_t joins_dropped = 0;     ///< thin branches left out when thinning did not make them fit
+  std::size_t joins_dropped = 0;     ///< thin branches swept apart when thinning did not make them fit
   std::size_t repaired_shrunk = 0;   ///< branches thinned to clear an intersection
-  std::size_t repaired_dropped = 0;  ///< branches left out to clear an intersection
+  std::size_t repaired_dropped = 0;  ///< branches swept apart to clear an intersection
   int repair_rounds = 0;
   /// Repair rounds started by CGAL's test of the whole mesh: crossings the faster test of the parts
   /// that share no ring did not see. A band that folds over itself where a branch kinks is one
@@ -66,6 +80,16 @@ struct SweepStats {
   int late_repair_rounds = 0;
   int attempts = 0;                  ///< times the mesh was built (each repair round builds it again)
   std::size_t self_intersections = 0;  ///< face pairs still intersecting after the repair
+  /// Subtrees that a join or a crossing left no room for, swept on their own and united with the
+  /// tree (CGAL corefinement): `joins_dropped` and `repaired_dropped` count these, not losses.
+  std::size_t pieces = 0;
+  std::size_t unions = 0;          ///< corefinements run to unite the pieces
+  std::size_t pieces_apart = 0;    ///< pieces the union refused, kept as components of their own
+  std::size_t pieces_failed = 0;   ///< pieces that could not be swept even alone: missing from the mesh
+  std::size_t welded_edges = 0;    ///< edges shorter than `weld` collapsed after the union
+  /// Face pairs that cross once the mesh is rounded to the 32-bit floats of the frame files hold
+  /// (tested where pieces were united; the union adds none to what the tree had without them).
+  std::size_t float_crossings = 0;
 };
 
 /// Sweeps the branches of a skeleton with radii into one closed, 2-manifold, outward-oriented

@@ -1,0 +1,92 @@
+#include "treeskel/modeling/coverage.h"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace treeskel::modeling {
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Surface = CGAL::Surface_mesh<K::Point_3>;
+using Primitive = CGAL::AABB_face_graph_triangle_primitive<Surface>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+
+Surface to_surface(const TreeMesh& mesh) {
+  Surface out;
+  std::vector<Surface::Vertex_index> handle;
+  handle.reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices()) {
+    const auto p = mesh.point(v);
+    handle.push_back(out.add_vertex(K::Point_3(p[0], p[1], p[2])));
+  }
+  for (auto f : mesh.faces()) {
+    std::array<Surface::Vertex_index, 3> c;
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) c[static_cast<std::size_t>(k++)] = handle[static_cast<std::size_t>(v.idx())];
+    out.add_face(c[0], c[1], c[2]);
+  }
+  return out;
+}
+
+K::Point_3 point(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+
+}  // namespace
+
+SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mesh, double step, double tolerance) {
+  SkeletonCoverage out;
+  const auto& g = skeleton.graph;
+  if (boost::num_vertices(g) == 0) return out;
+  Eigen::AlignedBox3d box;
+  for (NodeId v = 0; v < boost::num_vertices(g); ++v) box.extend(g[v].position);
+  const double extent = std::max(box.sizes().maxCoeff(), 1e-300);
+  if (!(step > 0.0)) step = extent / 2000.0;
+  if (!(tolerance > 0.0)) tolerance = 1e-6 * extent;
+  for (auto [it, end] = boost::edges(g); it != end; ++it)
+    out.length += (g[boost::source(*it, g)].position - g[boost::target(*it, g)].position).norm();
+  if (mesh.n_faces() == 0) return out;
+  const Surface surface = to_surface(mesh);
+  Tree tree(faces(surface).first, faces(surface).second, surface);
+  tree.accelerate_distance_queries();
+  const CGAL::Side_of_triangle_mesh<Surface, K> inside(tree);
+  const double tolerance2 = tolerance * tolerance;
+  auto covered = [&](const Eigen::Vector3d& p) {
+    const K::Point_3 q = point(p);
+    return inside(q) != CGAL::ON_UNBOUNDED_SIDE || tree.squared_distance(q) <= tolerance2;
+  };
+  for (auto [it, end] = boost::edges(g); it != end; ++it) {
+    const Eigen::Vector3d a = g[boost::source(*it, g)].position, b = g[boost::target(*it, g)].position;
+    const double length = (b - a).norm();
+    // Samples at the centres of equal pieces: each stands for one piece's length.
+    const int pieces = std::max(2, static_cast<int>(std::ceil(length / step)));
+    int hits = 0;
+    for (int i = 0; i < pieces; ++i) hits += covered(a + (b - a) * ((i + 0.5) / pieces)) ? 1 : 0;
+    out.inside_length += length * hits / pieces;
+  }
+  return out;
+}
+
+std::vector<double> surface_distances(const TreeMesh& mesh, const std::vector<Eigen::Vector3d>& points) {
+  std::vector<double> out(points.size(), std::numeric_limits<double>::infinity());
+  if (mesh.n_faces() == 0) return out;
+  const Surface surface = to_surface(mesh);
+  Tree tree(faces(surface).first, faces(surface).second, surface);
+  tree.accelerate_distance_queries();
+  for (std::size_t i = 0; i < points.size(); ++i) out[i] = std::sqrt(tree.squared_distance(point(points[i])));
+  return out;
+}
+
+double share_within(const std::vector<double>& distances, double limit) {
+  if (distances.empty()) return 0.0;
+  const auto n = std::count_if(distances.begin(), distances.end(), [&](double d) { return d <= limit; });
+  return static_cast<double>(n) / static_cast<double>(distances.size());
+}
+
+}  // namespace treeskel::modeling
