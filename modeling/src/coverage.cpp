@@ -1,5 +1,7 @@
 #include "treeskel/modeling/coverage.h"
 
+#include "surface_mesh.h"
+
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -21,18 +23,7 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 
 Surface to_surface(const TreeMesh& mesh) {
   Surface out;
-  std::vector<Surface::Vertex_index> handle;
-  handle.reserve(mesh.n_vertices());
-  for (auto v : mesh.vertices()) {
-    const auto p = mesh.point(v);
-    handle.push_back(out.add_vertex(K::Point_3(p[0], p[1], p[2])));
-  }
-  for (auto f : mesh.faces()) {
-    std::array<Surface::Vertex_index, 3> c;
-    int k = 0;
-    for (auto v : mesh.fv_range(f)) c[static_cast<std::size_t>(k++)] = handle[static_cast<std::size_t>(v.idx())];
-    out.add_face(c[0], c[1], c[2]);
-  }
+  detail::append_to_surface(out, mesh);
   return out;
 }
 

@@ -1,5 +1,7 @@
 #include "mesh_union.h"
 
+#include "surface_mesh.h"
+
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
@@ -26,20 +28,7 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 using K = CGAL::Exact_predicates_exact_constructions_kernel;
 using Surface = CGAL::Surface_mesh<K::Point_3>;
 
-void append(Surface& out, const TreeMesh& mesh) {
-  std::vector<Surface::Vertex_index> handle;
-  handle.reserve(mesh.n_vertices());
-  for (auto v : mesh.vertices()) {
-    const auto p = mesh.point(v);
-    handle.push_back(out.add_vertex(K::Point_3(p[0], p[1], p[2])));
-  }
-  for (auto f : mesh.faces()) {
-    std::array<Surface::Vertex_index, 3> c;
-    std::size_t k = 0;
-    for (auto v : mesh.fv_range(f)) c[k++] = handle[static_cast<std::size_t>(v.idx())];
-    out.add_face(c[0], c[1], c[2]);
-  }
-}
+void append(Surface& out, const TreeMesh& mesh) { append_to_surface(out, mesh); }
 
 /// The mesh with its points rounded to 32-bit floats in the frame `offset` leads to, in a canonical
 /// order (vertices by position, faces by their vertices): corefinement's own order differs from run
