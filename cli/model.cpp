@@ -190,6 +190,10 @@ int run(Settings& s) {
   j["branch_points"] = count_branch_points(skeleton.graph);
   j["endpoints"] = count_endpoints(skeleton.graph);
   j["measurements"] = measurements_json(measurements);
+  j["left_out"] = {{"total", skeleton.left_out.total()},
+                   {"small_clusters", skeleton.left_out.small_clusters},
+                   {"far_parts", skeleton.left_out.far_parts},
+                   {"outliers", skeleton.left_out.outliers}};
   j["radii"] = {{"measured_nodes", radius_stats.measured},
                 {"reliable_nodes", radius_stats.reliable},
                 {"from_stored_radii", radius_stats.used_stored},

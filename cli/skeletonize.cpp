@@ -66,7 +66,8 @@ int run(Settings& s) {
     j["peak_memory_mb"] = peak_memory_mb();
     j["left_out"] = {{"total", skeleton.left_out.total()},
                      {"small_clusters", skeleton.left_out.small_clusters},
-                     {"far_parts", skeleton.left_out.far_parts}};
+                     {"far_parts", skeleton.left_out.far_parts},
+                     {"outliers", skeleton.left_out.outliers}};
     j["octree_depth"] = stats.octree_depth;
     j["cell_size"] = stats.cell_size;
     j["band_width"] = stats.band_width;
@@ -90,6 +91,9 @@ int run(Settings& s) {
       if (skeleton.left_out.far_parts)
         std::cout << (skeleton.left_out.small_clusters ? "," : "") << " " << skeleton.left_out.far_parts
                   << " in parts beyond the bridging distance";
+      if (skeleton.left_out.outliers)
+        std::cout << (skeleton.left_out.small_clusters + skeleton.left_out.far_parts ? "," : "") << " "
+                  << skeleton.left_out.outliers << " stray far outside the cloud";
       std::cout << ")";
     }
     std::cout << " -> " << s.output << '\n';

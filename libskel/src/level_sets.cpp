@@ -190,6 +190,7 @@ Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, c
 
   for (std::size_t c = 0; c < n; ++c)
     if (band[c] < 0) skeleton.noise_points.insert(skeleton.noise_points.end(), cells.begin(c), cells.end(c));
+  skeleton.noise_points.insert(skeleton.noise_points.end(), cells.outliers.begin(), cells.outliers.end());
   std::sort(skeleton.noise_points.begin(), skeleton.noise_points.end());
   return skeleton;
 }

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace treeskel {
 
@@ -66,23 +67,58 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
   if (options.depth < 0 || options.depth > 21)
     throw OptionError("octree depth must be between 1 and 21 (0 for the default), got " + std::to_string(options.depth));
   OctreeCells cells;
-  const Eigen::AlignedBox3d box = bounding_box(cloud);
+  // Points far outside the cloud's bulk are left out, and the cube bounds the others.
+  std::vector<std::uint32_t> kept;
+  Eigen::AlignedBox3d box = bounding_box(cloud);
+  if (options.outlier_distance > 0.0 && cloud.size() >= 1000) {
+    Eigen::AlignedBox3d bulk;
+    std::vector<double> values(cloud.size());
+    for (int a = 0; a < 3; ++a) {
+      for (std::size_t i = 0; i < cloud.size(); ++i) values[i] = cloud.positions[i][a];
+      const auto at = [&](double q) {
+        const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+        std::nth_element(values.begin(), values.begin() + k, values.end());
+        return values[static_cast<std::size_t>(k)];
+      };
+      bulk.min()[a] = at(0.001);
+      bulk.max()[a] = at(0.999);
+    }
+    const double reach = options.outlier_distance * bulk.sizes().maxCoeff();
+    bulk.min().array() -= reach;
+    bulk.max().array() += reach;
+    if (!bulk.contains(box)) {
+      box.setEmpty();
+      for (std::size_t i = 0; i < cloud.size(); ++i) {
+        if (bulk.contains(cloud.positions[i])) {
+          kept.push_back(static_cast<std::uint32_t>(i));
+          box.extend(cloud.positions[i]);
+        } else {
+          cells.outliers.push_back(static_cast<std::uint32_t>(i));
+        }
+      }
+    }
+  }
+  if (kept.empty()) {
+    kept.resize(cloud.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i) kept[i] = static_cast<std::uint32_t>(i);
+  }
   cells.origin = box.min();
   cells.cube_size = std::max(box.sizes().maxCoeff(), 1e-300);
 
   // Morton keys at the finest depth, sorted once: the cells of any coarser depth are runs of keys that
   // share a prefix, so every depth can be counted from this one sort.
   constexpr int finest = 21;
-  const std::size_t n = cloud.size();
+  const std::size_t n = kept.size();
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
   const double resolution = static_cast<double>(1u << finest);
   const double inv = resolution / cells.cube_size;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+    for (std::size_t j = range.begin(); j != range.end(); ++j) {
+      const std::uint32_t i = kept[j];
       const Eigen::Vector3d g = (cloud.positions[i] - cells.origin) * inv;
       std::uint32_t c[3];
       for (int a = 0; a < 3; ++a) c[a] = static_cast<std::uint32_t>(std::clamp(std::floor(g[a]), 0.0, resolution - 1.0));
-      keyed[i] = {morton_encode(c[0], c[1], c[2]), static_cast<std::uint32_t>(i)};
+      keyed[j] = {morton_encode(c[0], c[1], c[2]), i};
     }
   });
   tbb::parallel_sort(keyed.begin(), keyed.end());  // keys with indices are unique: deterministic
@@ -90,7 +126,10 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
   if (options.depth > 0) {
     cells.depth = options.depth;
   } else {
-    const int paper = paper_octree_depth(n);
+    // Repeated points (the same finest key) count once: duplicating a cloud changes nothing.
+    std::size_t distinct = 0;
+    for (std::size_t i = 0; i < n; ++i) distinct += i == 0 || keyed[i].first != keyed[i - 1].first;
+    const int paper = paper_octree_depth(distinct);
     cells.depth = paper;
     if (options.points_per_cell > 0.0) {
       const int deepest = std::min(finest, paper + std::max(0, options.max_extra_depth));
@@ -103,6 +142,7 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
         counts.clear();
         std::size_t run = 0;
         for (std::size_t i = 0; i < n; ++i) {
+          if (i > 0 && keyed[i].first == keyed[i - 1].first) continue;  // a repeated point
           if (i > 0 && (keyed[i].first >> shift) != (keyed[i - 1].first >> shift)) {
             counts.push_back(run);
             run = 0;
@@ -114,7 +154,7 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
         std::size_t seen = 0, typical = 0;
         for (auto c : counts) {
           seen += c;
-          if (2 * seen >= n) {
+          if (2 * seen >= distinct) {
             typical = c;
             break;
           }

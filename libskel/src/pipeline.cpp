@@ -2,7 +2,9 @@
 
 #include "treeskel/error.h"
 
+#include <algorithm>
 #include <chrono>
+#include <tuple>
 
 namespace treeskel {
 
@@ -66,8 +68,65 @@ SkeletonOptions automatic_options(const PointCloud& cloud, const SkeletonOptions
   return o;
 }
 
+namespace {
+
+Skeleton extract_distinct(const PointCloud& cloud, const SkeletonOptions& options, SkeletonStats* stats_out);
+
+}  // namespace
+
 Skeleton extract_skeleton(const PointCloud& cloud, const SkeletonOptions& options, SkeletonStats* stats_out) {
   check_cloud(cloud, options);
+  // Points repeated at the very same place (merged scans, files written twice) would weigh twice in
+  // every count the method makes: the skeleton is extracted from the distinct points, and each
+  // repeat then goes where its first copy went.
+  const std::size_t n = cloud.size();
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
+  const auto less = [&](std::uint32_t a, std::uint32_t b) {
+    const auto &p = cloud.positions[a], &q = cloud.positions[b];
+    return std::tie(p.x(), p.y(), p.z(), a) < std::tie(q.x(), q.y(), q.z(), b);
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<std::uint32_t> first(n);  // per point: the first (lowest index) point at its place
+  bool repeats = false;
+  for (std::size_t k = 0; k < n; ++k) {
+    const bool same = k > 0 && cloud.positions[order[k]] == cloud.positions[order[k - 1]];
+    first[order[k]] = same ? first[order[k - 1]] : order[k];
+    repeats = repeats || same;
+  }
+  if (!repeats) return extract_distinct(cloud, options, stats_out);
+  PointCloud distinct;
+  distinct.offset = cloud.offset;
+  std::vector<std::uint32_t> id(n, 0);  // per first point: its index in `distinct`
+  for (std::size_t i = 0; i < n; ++i) {
+    if (first[i] != i) continue;
+    id[i] = static_cast<std::uint32_t>(distinct.positions.size());
+    distinct.positions.push_back(cloud.positions[i]);
+    if (cloud.has_normals()) distinct.normals.push_back(cloud.normals[i]);
+    if (cloud.has_colors()) distinct.colors.push_back(cloud.colors[i]);
+  }
+  if (distinct.size() < options.min_points)
+    throw InputError("the cloud has " + std::to_string(distinct.size()) + " distinct points; the method needs at least " +
+                     std::to_string(options.min_points));
+  Skeleton skeleton = extract_distinct(distinct, options, stats_out);
+  if (stats_out) stats_out->points = n;
+  // Back to the input's indices: every point goes where its first copy went.
+  std::vector<std::vector<std::uint32_t>> copies(distinct.size());
+  for (std::size_t i = 0; i < n; ++i) copies[id[first[i]]].push_back(static_cast<std::uint32_t>(i));
+  auto expand = [&](std::vector<std::uint32_t>& points) {
+    std::vector<std::uint32_t> all;
+    for (std::uint32_t p : points) all.insert(all.end(), copies[p].begin(), copies[p].end());
+    std::sort(all.begin(), all.end());
+    points = std::move(all);
+  };
+  for (NodeId v = 0; v < skeleton.node_count(); ++v) expand(skeleton[v].points);
+  expand(skeleton.noise_points);
+  return skeleton;
+}
+
+namespace {
+
+Skeleton extract_distinct(const PointCloud& cloud, const SkeletonOptions& options, SkeletonStats* stats_out) {
   SkeletonStats stats;
   stats.points = cloud.size();
   StageClock clock(options.progress, stats);
@@ -92,6 +151,7 @@ Skeleton extract_skeleton(const PointCloud& cloud, const SkeletonOptions& option
   clock.start("level sets", 0.5);
   Skeleton skeleton = level_set_skeleton(cloud, cells, graph, main.in_tree, geodesic, options.level_sets);
   skeleton.left_out = main.left_out;
+  skeleton.left_out.outliers = cells.outliers.size();
   stats.band_width = band_width_for(options.level_sets, cells);
   stats.level_set_nodes = skeleton.node_count();
   if (skeleton.node_count() < 2)
@@ -125,5 +185,7 @@ Skeleton extract_skeleton(const PointCloud& cloud, const SkeletonOptions& option
   if (stats_out) *stats_out = std::move(stats);
   return skeleton;
 }
+
+}  // namespace
 
 }  // namespace treeskel

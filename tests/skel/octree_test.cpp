@@ -92,6 +92,50 @@ TEST(Octree, EveryPointIsInExactlyOneCellThatContainsIt) {
   EXPECT_EQ(cells.find(Eigen::Vector3i(-1, 0, 0)), -1);
 }
 
+/// A noisy vertical column of `n` points, seeded.
+PointCloud column(std::size_t n) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> d(0.0, 0.05);
+  std::uniform_real_distribution<double> z(0.0, 5.0);
+  PointCloud c;
+  for (std::size_t i = 0; i < n; ++i) c.positions.emplace_back(d(rng), d(rng), z(rng));
+  return c;
+}
+
+// One stray point 20 times the cloud's size away is left out: the grid is the one without it.
+TEST(Octree, AStrayPointFarAwayLeavesTheGridAsItWas) {
+  const PointCloud plain = column(5000);
+  PointCloud stray = plain;
+  stray.positions.emplace_back(100.0, 0.0, 2.0);
+  const OctreeCells a = build_octree_cells(plain), b = build_octree_cells(stray);
+  ASSERT_EQ(b.outliers.size(), 1u);
+  EXPECT_EQ(b.outliers[0], 5000u);
+  EXPECT_TRUE(a.outliers.empty());
+  EXPECT_EQ(a.depth, b.depth);
+  EXPECT_DOUBLE_EQ(a.cell_size, b.cell_size);
+  EXPECT_EQ(a.keys, b.keys);
+  // Points within the cloud's reach stay, however sparse.
+  PointCloud near = plain;
+  near.positions.emplace_back(2.0, 0.0, 2.0);
+  EXPECT_TRUE(build_octree_cells(near).outliers.empty());
+  // 0 keeps every point.
+  OctreeOptions keep;
+  keep.outlier_distance = 0.0;
+  EXPECT_TRUE(build_octree_cells(stray, keep).outliers.empty());
+}
+
+// Every point written ten times: the same depth and the same cells.
+TEST(Octree, RepeatedPointsCountOnce) {
+  const PointCloud plain = column(5000);
+  PointCloud repeated;
+  for (int k = 0; k < 10; ++k)
+    repeated.positions.insert(repeated.positions.end(), plain.positions.begin(), plain.positions.end());
+  const OctreeCells a = build_octree_cells(plain), b = build_octree_cells(repeated);
+  EXPECT_EQ(a.depth, b.depth);
+  EXPECT_EQ(a.keys, b.keys);
+  for (std::size_t c = 0; c < a.cell_count(); ++c) EXPECT_EQ(10 * a.point_count(c), b.point_count(c));
+}
+
 TEST(Octree, RejectsEmptyCloudAndBadDepth) {
   EXPECT_THROW(build_octree_cells(PointCloud{}, {}), InputError);
   PointCloud one;

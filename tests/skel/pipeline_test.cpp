@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <map>
 
 namespace treeskel {
@@ -145,6 +146,27 @@ TEST_P(RealClouds, AutomaticOptionsSpellOutTheDefaultsAndGiveTheSameSkeleton) {
   EXPECT_EQ(kept.level_sets.band_width, 0.123);
   EXPECT_EQ(kept.prune.min_length, 0.123);
   EXPECT_EQ(kept.graph.bridge_distance, -1.0);
+}
+
+// AdTree's tree1 with one point 20 m away, and with every point repeated: the same skeleton (the
+// stray point reported as left out, and noise).
+TEST(Pipeline, AStrayPointOrRepeatedPointsChangeNothing) {
+  const PointCloud tree = io::read_point_cloud(test::data_file("tree_adtree1.xyz"));
+  const Skeleton plain = extract_skeleton(tree);
+  PointCloud stray = tree;
+  stray.positions.push_back(tree.positions.front() + Eigen::Vector3d(20.0, 0.0, 0.0));
+  const Skeleton with_stray = extract_skeleton(stray);
+  EXPECT_EQ(with_stray.node_count(), plain.node_count());
+  EXPECT_EQ(with_stray.left_out.outliers, 1u);
+  EXPECT_TRUE(std::binary_search(with_stray.noise_points.begin(), with_stray.noise_points.end(),
+                                 static_cast<std::uint32_t>(tree.size())));
+  EXPECT_EQ(validate(with_stray, stray.size()), "");
+  PointCloud twice = tree;
+  twice.positions.insert(twice.positions.end(), tree.positions.begin(), tree.positions.end());
+  const Skeleton doubled = extract_skeleton(twice);
+  EXPECT_NEAR(static_cast<double>(doubled.node_count()), static_cast<double>(plain.node_count()),
+              0.01 * static_cast<double>(plain.node_count()));
+  EXPECT_EQ(validate(doubled, twice.size()), "");
 }
 
 TEST(Pipeline, AutomaticOptionsRejectWhatExtractionRejects) {

@@ -27,6 +27,10 @@ struct OctreeOptions {
   /// 0: the paper's depth, ⌊2 + log8 N⌋.
   double points_per_cell = 2.0;
   int max_extra_depth = 1;
+  /// Points farther than this many times the extent of the cloud's bulk outside it are left out of
+  /// the octree (and of the skeleton, as noise), so that one stray point cannot coarsen the grid.
+  /// The bulk: per axis, the range between the 0.1% and 99.9% quantiles. 0 keeps every point.
+  double outlier_distance = 0.5;
   L1MedianOptions median;  ///< Weiszfeld settings for the per-cell L1-medians
 };
 
@@ -40,6 +44,7 @@ struct OctreeCells {
   std::vector<std::uint32_t> first;                  ///< cell c owns point_order[first[c], first[c+1])
   std::vector<std::uint32_t> point_order;            ///< point indices grouped by cell
   std::vector<Eigen::Vector3d> medians;              ///< L1-median of each cell's points
+  std::vector<std::uint32_t> outliers;               ///< points far outside the cloud's bulk, in no cell
 
   std::size_t cell_count() const { return keys.size(); }
   const std::uint32_t* begin(std::size_t cell) const { return point_order.data() + first[cell]; }
@@ -59,7 +64,9 @@ std::uint64_t morton_encode(std::uint32_t x, std::uint32_t y, std::uint32_t z);
 /// Inverse of morton_encode.
 Eigen::Vector3i morton_decode(std::uint64_t key);
 
-/// Subdivides the cloud and computes the per-cell L1-medians (in parallel, deterministic).
+/// Subdivides the cloud and computes the per-cell L1-medians (in parallel, deterministic). The cube
+/// bounds the points that are not outliers; the depth counts repeated points once (a cloud with
+/// every point written twice gives the same cells).
 /// @throws InputError for an empty cloud.
 OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& options = {});
 

@@ -32,7 +32,8 @@ using NodeId = SkeletonGraph::vertex_descriptor;
 struct LeftOut {
   std::size_t small_clusters = 0;   ///< points of isolated clusters smaller than the noise threshold
   std::size_t far_parts = 0;        ///< points of large parts farther than the bridging distance
-  std::size_t total() const { return small_clusters + far_parts; }
+  std::size_t outliers = 0;         ///< stray points far outside the cloud's bulk (OctreeOptions)
+  std::size_t total() const { return small_clusters + far_parts + outliers; }
 };
 
 /// A curve skeleton with its root. Invariants (checked by `validate`): the graph is a tree (connected
