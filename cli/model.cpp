@@ -21,6 +21,8 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
+#include <vector>
 
 namespace treeskel::cli {
 
@@ -30,6 +32,12 @@ namespace fs = std::filesystem;
 
 /// Below this share of the skeleton's length inside the mesh, the summary warns.
 constexpr double kCoverageWarning = 0.95;
+/// Sanity warnings: a tree this many times wider than tall, taller than this (the tallest known
+/// trees are about 116 m), a DBH over this (the widest trunks are about 11 m across, but a DBH over
+/// 3 m is rare enough to check).
+constexpr double kUpAxisRatio = 1.5;
+constexpr double kTallestTree = 150.0;
+constexpr double kWidestTrunk = 3.0;
 
 struct Settings {
   std::string input;
@@ -77,6 +85,46 @@ nlohmann::ordered_json measurements_json(const modeling::TreeMeasurements& m) {
   j["branches_by_order"] = m.branches_by_order;
   j["cylinders"] = m.cylinders.size();
   return j;
+}
+
+/// What looks wrong about the input, from the skeleton's extent and the measurements: an up axis
+/// along which the tree is much shorter than across, units that are not metres, a trunk no real
+/// tree has.
+std::vector<std::string> sanity_warnings(const Skeleton& skeleton, const Eigen::Vector3d& up,
+                                         const modeling::TreeMeasurements& m, double breast_height) {
+  std::vector<std::string> out;
+  Eigen::AlignedBox3d box;
+  for (NodeId v = 0; v < skeleton.node_count(); ++v) box.extend(skeleton[v].position);
+  if (box.isEmpty()) return out;
+  const Eigen::Vector3d size = box.sizes();
+  const Eigen::Vector3d u = up.normalized();
+  double along = 0.0, across = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double share = std::abs(u[a]);
+    along += share * size[a];
+    across = std::max(across, (1.0 - share) * size[a]);
+  }
+  if (across > kUpAxisRatio * along) {
+    std::ostringstream w;
+    w << "the tree is " << across / along << " times wider than tall along the up axis: if it grows along another "
+      << "axis, say so with --up (e.g. --up y)";
+    out.push_back(w.str());
+  }
+  if (m.height > kTallestTree) {
+    std::ostringstream w;
+    w << "the tree is " << m.height << " units tall: if the units are centimetres or millimetres, the breast height ("
+      << breast_height << ") and every default in metres are wrong; convert the cloud or set --breast-height";
+    out.push_back(w.str());
+  }
+  if (m.dbh && *m.dbh > kWidestTrunk) {
+    std::ostringstream w;
+    w << "a DBH of " << *m.dbh << " is over " << kWidestTrunk << ", rare in any tree: check the units, the up axis, "
+      << "or whether this is a tree (an airborne scan of a crown has no trunk to measure)";
+    out.push_back(w.str());
+  }
+  if (!m.dbh && m.height > 0.0 && m.height < breast_height)
+    out.push_back("the tree is shorter than breast height, so it has no DBH");
+  return out;
 }
 
 int run(Settings& s) {
@@ -168,6 +216,9 @@ int run(Settings& s) {
   mo.breast_height = s.breast_height;
   mo.dbh_from_points = !s.dbh_from_model;
   const modeling::TreeMeasurements measurements = modeling::measure_tree(skeleton, cloud ? &*cloud : nullptr, mo);
+  std::vector<std::string> warnings = sanity_warnings(skeleton, up, measurements, s.breast_height);
+  if (!s.json)
+    for (const auto& w : warnings) std::cerr << "warning: " << s.input << ": " << w << '\n';
 
   progress("writing " + fs::path(s.output).filename().string(), 0.95);
   io::MeshFrame frame;
@@ -229,6 +280,7 @@ int run(Settings& s) {
   j["frame"] = {{"offset_left_out", {placed.left_out.x(), placed.left_out.y(), placed.left_out.z()}},
                 {"y_up_rotation", placed.y_up_rotation},
                 {"note", placed.note}};
+  j["warnings"] = warnings;
   j["seconds"] = {{"skeleton", skeleton_seconds}, {"total", seconds}};
   j["peak_memory_mb"] = peak_memory_mb();
   if (!s.report.empty()) io::write_atomically(s.report, [&](std::ostream& out) { out << j.dump(2) << '\n'; });

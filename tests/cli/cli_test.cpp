@@ -209,6 +209,31 @@ TEST(Cli, ModelOfACrowdedCrownHoldsTheWholeSkeletonInTheFile) {
   EXPECT_TRUE(check.ok()) << check.problem();
 }
 
+// A Y-up cloud modeled as Z-up, and the same cloud in millimetres, are warned about.
+TEST(Cli, ModelWarnsAboutAnUpAxisOrUnitsThatLookWrong) {
+  test::TempDir dir;
+  const PointCloud tree = io::read_point_cloud(test::data_file("tree_rtwig.txt"));
+  {
+    std::ofstream y_up(dir.path("y_up.xyz")), mm(dir.path("mm.xyz"));
+    for (const auto& p : tree.positions) {
+      const Eigen::Vector3d w = p + tree.offset;
+      y_up << w.x() << ' ' << w.z() << ' ' << w.y() << '\n';
+      mm << 1000 * w.x() << ' ' << 1000 * w.y() << ' ' << 1000 * w.z() << '\n';
+    }
+  }
+  const Result lying = run("model y_up.xyz -o y.glb --report y.json", dir.root());
+  ASSERT_EQ(lying.code, 0) << lying.out;
+  EXPECT_NE(lying.out.find("wider than tall along the up axis"), std::string::npos) << lying.out;
+  const Result upright = run("model y_up.xyz --up y -o y2.glb", dir.root());
+  ASSERT_EQ(upright.code, 0) << upright.out;
+  EXPECT_EQ(upright.out.find("wider than tall"), std::string::npos) << upright.out;
+  const Result millimetres = run("model mm.xyz -o mm.glb --report mm.json", dir.root());
+  ASSERT_EQ(millimetres.code, 0) << millimetres.out;
+  EXPECT_NE(millimetres.out.find("centimetres or millimetres"), std::string::npos) << millimetres.out;
+  std::ifstream in(dir.path("mm.json"));
+  EXPECT_FALSE(nlohmann::json::parse(in)["warnings"].empty());
+}
+
 TEST(Cli, ModelFormatsAndBadUse) {
   test::TempDir dir;
   const std::string cloud = quoted(test::data_file("tree_adtree1.xyz"));
