@@ -3,14 +3,11 @@
 #include "surface_mesh.h"
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Random.h>
 #include <CGAL/Surface_mesh.h>
-#include <CGAL/boost/graph/copy_face_graph.h>
 
 #include <Eigen/Geometry>
 

@@ -85,7 +85,10 @@ struct SweepStats {
   std::size_t pieces = 0;
   std::size_t unions = 0;          ///< corefinements run to unite the pieces
   std::size_t pieces_apart = 0;    ///< pieces the union refused, kept as components of their own
-  std::size_t pieces_failed = 0;   ///< pieces that could not be swept even alone: missing from the mesh
+  /// Pieces missing from the mesh: swept even alone only as a single failing segment, or left out
+  /// because uniting them made the mesh cross itself (in the floats files hold), or with
+  /// `unite_apart` off.
+  std::size_t pieces_failed = 0;
   std::size_t welded_edges = 0;    ///< edges shorter than `weld` collapsed after the union
   /// Face pairs that cross once the mesh is rounded to the 32-bit floats of the frame files hold
   /// (tested where pieces were united; the union adds none to what the tree had without them).
