@@ -1057,13 +1057,12 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, S
     throw InputError("every branch is thinner than the minimum radius; nothing is left to mesh");
 
 
-  const Skeleton& shape = skeleton;  // positions, radii and edges only (see sweep_mesh)
   Builder::HullCache hulls;
   const int max_attempts = 4 * static_cast<int>(n) + 50;
   std::optional<TreeMesh> best;
   for (int attempt_no = 0; attempt_no < max_attempts; ++attempt_no) {
     // The kept, scaled skeleton.
-    Skeleton pruned = shape;
+    Skeleton pruned = skeleton;  // positions, radii and edges only (see sweep_mesh)
     for (NodeId v = 0; v < n; ++v) pruned[v].radius *= scale[v];
     const auto new_id = compact_nodes(pruned, keep);
     std::vector<NodeId> old_id(boost::num_vertices(pruned.graph));
