@@ -57,19 +57,6 @@ struct Settings {
   bool local = false;
 };
 
-/// A saved skeleton rather than a cloud: .json, or a PLY with an edge element.
-bool is_skeleton_file(const std::string& path) {
-  const std::string ext = io::extension_of(path);
-  if (ext == "json") return true;
-  if (ext != "ply") return false;
-  std::ifstream in(path, std::ios::binary);
-  std::string header(4096, '\0');
-  in.read(header.data(), static_cast<std::streamsize>(header.size()));
-  header.resize(static_cast<std::size_t>(in.gcount()));
-  const auto end = header.find("end_header");
-  return header.substr(0, end).find("element edge") != std::string::npos;
-}
-
 nlohmann::ordered_json measurements_json(const modeling::TreeMeasurements& m) {
   nlohmann::ordered_json j;
   j["height"] = m.height;
@@ -143,7 +130,7 @@ int run(Settings& s) {
   std::optional<PointCloud> cloud;
   Skeleton skeleton;
   SkeletonStats skeleton_stats;
-  const bool from_skeleton = is_skeleton_file(s.input);
+  const bool from_skeleton = io::looks_like_skeleton(s.input);
   Eigen::Vector3d up = parse_up(s.method.up);
   if (from_skeleton) {
     skeleton = io::read_skeleton(s.input);

@@ -7,6 +7,7 @@
 #                                      Xvfb, and MeshLab's headers from its source package
 #        TREESKEL_BUILD_TARGET=name    build this target only
 set -euo pipefail
+trap 'echo "setup: failed (exit $?) at: $BASH_COMMAND" >&2' ERR
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${TREESKEL_BUILD_DIR:-$here/build}
 

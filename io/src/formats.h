@@ -10,9 +10,9 @@
 
 namespace treeskel::io::detail {
 
-PointCloud read_xyz(const std::string& data, const std::string& name);
-PointCloud read_ply(const std::string& data, const std::string& name);
-PointCloud read_las(const std::string& data, const std::string& name);
+PointCloud read_xyz(std::string_view data, const std::string& name);
+PointCloud read_ply(std::string_view data, const std::string& name);
+PointCloud read_las(std::string_view data, const std::string& name);
 
 void write_xyz(std::ostream& out, const PointCloud& cloud);
 void write_ply(std::ostream& out, const PointCloud& cloud, bool binary);

@@ -14,7 +14,7 @@ namespace treeskel::io::detail {
 namespace {
 
 template <class T>
-T get(const std::string& data, std::size_t at) {
+T get(std::string_view data, std::size_t at) {
   T v;
   std::memcpy(&v, data.data() + at, sizeof(T));  // LAS is little-endian, as is every host we build on
   return v;
@@ -30,7 +30,7 @@ constexpr int rgb_offset[] = {-1, -1, 20, 28, -1, 28, -1, 30, 30, -1, 30};
 
 }  // namespace
 
-PointCloud read_las(const std::string& data, const std::string& name) {
+PointCloud read_las(std::string_view data, const std::string& name) {
   if (data.size() < 4 || data.compare(0, 4, "LASF") != 0)
     throw InputError(name + ": not a LAS file (it does not start with 'LASF')");
   if (data.size() < 227)
@@ -72,9 +72,9 @@ PointCloud read_las(const std::string& data, const std::string& name) {
                      " but the file has " + std::to_string(data.size()) + " bytes");
   const std::size_t available = (data_end - point_offset) / record;
   if (count > available)
-    throw InputError(name + ": truncated: the header declares " + std::to_string(count) + " points (" +
-                     std::to_string(count * record) + " bytes from byte " + std::to_string(point_offset) +
-                     ") but only " + std::to_string(data_end - point_offset) + " bytes follow");
+    throw InputError(name + ": truncated: the header declares " + std::to_string(count) + " points of " +
+                     std::to_string(record) + " bytes from byte " + std::to_string(point_offset) + ", but only " +
+                     std::to_string(data_end - point_offset) + " bytes follow");
   if (point_offset + count * record != data_end)
     throw InputError(name + ": byte " + std::to_string(point_offset + count * record) + ": the header declares " +
                      std::to_string(count) + " points but " + std::to_string(data_end - point_offset - count * record) +

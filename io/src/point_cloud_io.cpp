@@ -1,6 +1,7 @@
 #include "treeskel/io/point_cloud_io.h"
 
 #include "formats.h"
+#include "input_file.h"
 #include "treeskel/error.h"
 #include "treeskel/io/atomic_file.h"
 
@@ -38,7 +39,8 @@ PointCloud read_point_cloud(const std::filesystem::path& path) {
                             "'laszip -i file.laz -o file.las' or 'pdal translate file.laz file.las'");
   if (ext != "ply" && ext != "las" && !is_text(ext))
     throw InputError(name + ": unknown point cloud extension '." + ext + "'; treeskel reads " + known_list());
-  const std::string data = read_whole_file(path);
+  const detail::InputFile file(path);
+  const std::string_view data = file.bytes();
   if (data.empty()) throw InputError(name + ": the file is empty");
   PointCloud cloud = ext == "ply" ? detail::read_ply(data, name)
                      : ext == "las" ? detail::read_las(data, name)

@@ -1,13 +1,16 @@
 #include "treeskel/io/skeleton_io.h"
 
 #include "formats.h"
+#include "input_file.h"
+#include "ply_format.h"
 #include "treeskel/error.h"
 #include "treeskel/io/atomic_file.h"
 
 #include <nlohmann/json.hpp>
 
+#include <charconv>
+#include <cmath>
 #include <ostream>
-#include <sstream>
 
 namespace treeskel::io {
 
@@ -54,10 +57,10 @@ void write_obj(std::ostream& out, const Skeleton& s) {
   out << text;
 }
 
-Skeleton from_json(const std::string& data, const std::string& name) {
+Skeleton from_json(std::string_view data, const std::string& name) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(data);
+    j = nlohmann::json::parse(data.begin(), data.end());
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(name + ": not valid JSON: " + e.what());
   }
@@ -83,75 +86,71 @@ Skeleton from_json(const std::string& data, const std::string& name) {
   return s;
 }
 
-Skeleton from_ply(const std::string& data, const std::string& name) {
-  std::istringstream in(data);
-  std::string line;
-  std::getline(in, line);
-  if (line.rfind("ply", 0) != 0) throw InputError(name + ": not a PLY file");
-  std::size_t vertices = 0, edges = 0;
+/// The vertex and edge elements of a skeleton PLY, or nullptrs.
+struct SkeletonElements {
+  const detail::PlyElement* vertex = nullptr;
+  const detail::PlyElement* edge = nullptr;
+};
+
+SkeletonElements skeleton_elements(const detail::PlyHeader& header) {
+  SkeletonElements out;
+  out.vertex = header.find("vertex");
+  out.edge = header.find("edge");
+  if (out.vertex && (out.vertex->find("x") < 0 || out.vertex->find("y") < 0 || out.vertex->find("z") < 0))
+    out.vertex = nullptr;
+  if (out.edge && (out.edge->find("vertex1") < 0 || out.edge->find("vertex2") < 0)) out.edge = nullptr;
+  return out;
+}
+
+Skeleton from_ply(std::string_view data, const std::string& name) {
+  const detail::PlyHeader header = detail::parse_ply_header(data, name);
+  const SkeletonElements found = skeleton_elements(header);
+  if (!found.vertex) throw InputError(name + ": the skeleton PLY has no vertex element with x, y and z");
+  if (header.find("edge") && !found.edge) throw InputError(name + ": the skeleton PLY's edges lack vertex1/vertex2");
+  const std::size_t vertex_index = static_cast<std::size_t>(found.vertex - header.elements.data());
+  const int cx = found.vertex->find("x"), cy = found.vertex->find("y"), cz = found.vertex->find("z"),
+            cr = found.vertex->find("radius");
+  const int c1 = found.edge ? found.edge->find("vertex1") : -1, c2 = found.edge ? found.edge->find("vertex2") : -1;
+  std::vector<bool> wanted(header.elements.size(), false);
+  wanted[vertex_index] = true;
+  if (found.edge) wanted[static_cast<std::size_t>(found.edge - header.elements.data())] = true;
+
+  Skeleton s;
+  const std::uint64_t vertices = found.vertex->count;
+  std::vector<std::pair<std::size_t, std::size_t>> edges;
+  detail::read_ply_body(data, header, wanted, [&](std::size_t element, std::uint64_t k, const double* values) {
+    if (element == vertex_index) {
+      SkeletonNode n;
+      n.position = {values[cx], values[cy], values[cz]};
+      if (!n.position.allFinite())
+        throw InputError(name + ": vertex " + std::to_string(k) + " has a coordinate that is not a finite number");
+      if (cr >= 0) n.radius = values[cr];
+      add_node(s, n);
+      return;
+    }
+    const double a = values[c1], b = values[c2];
+    if (!(a >= 0 && b >= 0 && a < static_cast<double>(vertices) && b < static_cast<double>(vertices)) ||
+        a != std::floor(a) || b != std::floor(b))
+      throw InputError(name + ": edge " + std::to_string(k) + " names a vertex that does not exist");
+    edges.emplace_back(static_cast<std::size_t>(a), static_cast<std::size_t>(b));
+  }, name);
+  for (const auto& [a, b] : edges) boost::add_edge(a, b, s.graph);  // after every vertex, whatever the order
+
   bool root_given = false;
-  std::size_t root = 0;
-  std::vector<std::string> vertex_props, edge_props;
-  std::vector<std::string>* current = nullptr;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string w;
-    words >> w;
-    if (w == "end_header") break;
-    if (w == "format") {
-      words >> w;
-      if (w != "ascii") throw InputError(name + ": only ascii skeleton PLY files are read (this one is " + w + ")");
-    } else if (w == "comment") {
-      words >> w;
-      if (w == "root" && (words >> root)) root_given = true;
-    } else if (w == "element") {
-      std::size_t count = 0;
-      words >> w >> count;
-      if (w == "vertex") vertices = count, current = &vertex_props;
-      else if (w == "edge") edges = count, current = &edge_props;
-      else current = nullptr;
-    } else if (w == "property" && current) {
-      std::string type, prop;
-      words >> type >> prop;
-      current->push_back(prop);
+  for (const auto& comment : header.comments) {
+    std::size_t root = 0;
+    if (comment.rfind("root ", 0) == 0) {
+      const auto text = std::string_view(comment).substr(5);
+      const auto parsed = std::from_chars(text.data(), text.data() + text.size(), root);
+      if (parsed.ec == std::errc()) {
+        s.root = root;
+        root_given = true;
+      }
     }
   }
-  auto column = [&](const std::vector<std::string>& props, const char* want) -> int {
-    for (std::size_t i = 0; i < props.size(); ++i)
-      if (props[i] == want) return static_cast<int>(i);
-    return -1;
-  };
-  const int cx = column(vertex_props, "x"), cy = column(vertex_props, "y"), cz = column(vertex_props, "z"),
-            cr = column(vertex_props, "radius");
-  const int c1 = column(edge_props, "vertex1"), c2 = column(edge_props, "vertex2");
-  if (cx < 0 || cy < 0 || cz < 0) throw InputError(name + ": the skeleton PLY has no x, y, z vertex properties");
-  if (edges > 0 && (c1 < 0 || c2 < 0)) throw InputError(name + ": the skeleton PLY edges lack vertex1/vertex2");
-  Skeleton s;
-  std::vector<double> values;
-  auto read_row = [&](std::size_t width, const char* what, std::size_t k) {
-    values.assign(width, 0.0);
-    for (auto& v : values)
-      if (!(in >> v)) throw InputError(name + ": the data ends inside " + what + " " + std::to_string(k));
-  };
-  for (std::size_t k = 0; k < vertices; ++k) {
-    read_row(vertex_props.size(), "vertex", k);
-    SkeletonNode n;
-    n.position = {values[cx], values[cy], values[cz]};
-    if (cr >= 0) n.radius = values[cr];
-    add_node(s, n);
-  }
-  for (std::size_t k = 0; k < edges; ++k) {
-    read_row(edge_props.size(), "edge", k);
-    const auto a = static_cast<std::size_t>(values[c1]), b = static_cast<std::size_t>(values[c2]);
-    if (a >= vertices || b >= vertices) throw InputError(name + ": edge " + std::to_string(k) + " names a missing vertex");
-    boost::add_edge(a, b, s.graph);
-  }
-  if (root_given) s.root = root;
-  else if (vertices > 0) {
-    for (NodeId v = 1; v < vertices; ++v)
+  if (!root_given)
+    for (NodeId v = 1; v < s.node_count(); ++v)
       if (s.graph[v].position.z() < s.graph[s.root].position.z()) s.root = v;
-  }
   return s;
 }
 
@@ -197,12 +196,24 @@ Skeleton read_skeleton(const std::filesystem::path& path) {
   const std::string ext = extension_of(path);
   if (ext != "ply" && ext != "json")
     throw InputError(path.string() + ": unknown skeleton extension '." + ext + "'; treeskel reads .ply and .json skeletons");
-  const std::string data = read_whole_file(path);
+  const detail::InputFile file(path);
+  const std::string_view data = file.bytes();
   if (data.empty()) throw InputError(path.string() + ": the file is empty");
   Skeleton s = ext == "json" ? from_json(data, path.string()) : from_ply(data, path.string());
   if (s.node_count() == 0) throw InputError(path.string() + ": the skeleton has no node");
   if (s.root >= s.node_count()) throw InputError(path.string() + ": the root is not a node");
   return s;
+}
+
+bool looks_like_skeleton(const std::filesystem::path& path) {
+  const std::string ext = extension_of(path);
+  if (ext == "json") return true;
+  if (ext != "ply") return false;
+  const detail::InputFile file(path);
+  const detail::PlyHeader header = detail::parse_ply_header(file.bytes(), path.string());
+  const SkeletonElements found = skeleton_elements(header);
+  return found.vertex && found.edge && header.find("face") == nullptr && found.edge->count > 0 &&
+         2 * found.edge->count >= found.vertex->count;
 }
 
 }  // namespace treeskel::io

@@ -16,6 +16,8 @@ namespace treeskel::io::detail {
 
 namespace {
 
+constexpr std::size_t kLongestLine = 1 << 16;
+
 bool is_separator(char c) { return c == ' ' || c == '\t' || c == ',' || c == ';' || c == '\r' || c == '\v' || c == '\f'; }
 
 void split(std::string_view line, std::vector<std::string_view>& tokens) {
@@ -54,23 +56,28 @@ bool header_columns(const std::vector<std::string_view>& tokens, Columns& column
 
 }  // namespace
 
-PointCloud read_xyz(const std::string& data, const std::string& name) {
+PointCloud read_xyz(std::string_view all, const std::string& name) {
   PointCloud cloud;
   Columns columns{0, 1, 2, -1, -1, -1, -1, -1, -1};
   bool seen_content = false;
   std::vector<std::string_view> tokens;
   std::size_t line_number = 0;
   std::size_t pos = 0;
-  const std::string_view all(data);
-  if (all.find('\0') != std::string_view::npos)
-    throw InputError(name + ": holds binary data (a NUL byte at byte " + std::to_string(all.find('\0')) +
-                     "); expected text with one point a line");
   while (pos < all.size()) {
-    std::size_t end = all.find('\n', pos);
-    if (end == std::string_view::npos) end = all.size();
-    std::string_view line = all.substr(pos, end - pos);
-    pos = end + 1;
+    // A line is searched for no further than the longest line a point cloud has, so a huge file of
+    // another kind is refused at its first line.
+    const std::string_view rest = all.substr(pos, std::min(all.size() - pos, kLongestLine + 1));
+    std::size_t end = rest.find('\n');
     ++line_number;
+    if (end == std::string_view::npos && rest.size() > kLongestLine)
+      throw InputError(name + ": line " + std::to_string(line_number) +
+                       " is longer than 64 KiB; expected text with one point a line");
+    if (end == std::string_view::npos) end = rest.size();
+    std::string_view line = rest.substr(0, end);
+    pos += end + 1;
+    if (const auto nul = line.find('\0'); nul != std::string_view::npos)
+      throw InputError(name + ": holds binary data (a NUL byte at byte " + std::to_string(pos - end - 1 + nul) +
+                       "); expected text with one point a line");
     if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
     split(line, tokens);
     if (tokens.empty()) continue;

@@ -214,7 +214,8 @@ TEST(BadInput, EachGetsAClearMessage) {
   fewer.replace(fewer.find("vertex 300"), 10, "vertex 299");
   expect_error(file("fewer.ply", fewer), {"bytes follow the last element"});
   std::string more_ascii = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n4 5 6\n";
-  expect_error(file("lies.ply", more_ascii), {"ends after 2 of the 3 vertex"});
+  expect_error(file("lies.ply", more_ascii), {"declares 3 vertex elements", "only 12 bytes follow"});
+  expect_error(file("padded.ply", more_ascii + "\n\n\n\n\n\n"), {"ends after 2 of the 3 vertex"});
   expect_error(file("nanbin.ply", [&] {
                  std::string s = ply;
                  const double bad = std::numeric_limits<double>::quiet_NaN();
@@ -234,6 +235,71 @@ TEST(BadInput, EachGetsAClearMessage) {
   std::string compressed = las;
   compressed[104] = static_cast<char>(0x80 | 3);
   expect_error(file("compressed.las", compressed), {"LAZ-compressed"});
+}
+
+// Element counts a header cannot honestly make: no loop, no reservation beyond the file, no conversion
+// of an out-of-range number.
+TEST(BadInput, ElementCountsAreCheckedAgainstTheFile) {
+  const TempDir dir;
+  const auto file = [&](const std::string& name, const std::string& content) {
+    const std::string p = dir.path(name);
+    write_text(p, content);
+    return p;
+  };
+  const std::string xyz = "property float x\nproperty float y\nproperty float z\nend_header\n";
+  const auto ascii = [&](const std::string& junk) {
+    return "ply\nformat ascii 1.0\nelement junk " + junk + "\nelement vertex 3\n" + xyz + "0 0 0\n1 0 0\n0 1 1\n";
+  };
+  // An element without properties holds no bytes: skipped whatever its count (it used to loop 10^12 times).
+  for (const std::string count : {"1000000000000", "18446744073709551615"})
+    EXPECT_EQ(io::read_point_cloud(file("junk.ply", ascii(count))).size(), 3u) << count;
+  std::string binary = "ply\nformat binary_little_endian 1.0\nelement junk 1000000000000\nelement vertex 1\n" + xyz;
+  const float p[3] = {1, 2, 3};
+  binary.append(reinterpret_cast<const char*>(p), sizeof p);
+  EXPECT_EQ(io::read_point_cloud(file("junk_binary.ply", binary)).size(), 1u);
+  // Counts that are not whole numbers below 2^64 are malformed, not 0.
+  for (const std::string count : {"18446744073709551616", "1e30", "nan", "inf", "-1", "3.0", "0x10"})
+    expect_error(file("count.ply", ascii(count)), {"line 3", "malformed element line"});
+  // Counts the bytes that follow cannot hold are refused before anything is reserved.
+  const std::string huge = "ply\nformat binary_little_endian 1.0\nelement vertex 9223372036854775808\n" + xyz;
+  expect_error(file("huge.ply", huge + "0000"), {"declares 9223372036854775808 vertex elements", "only 4 bytes follow"});
+  expect_error(file("huge_ascii.ply", "ply\nformat ascii 1.0\nelement vertex 18446744073709551615\n" + xyz + "0 0 0\n"),
+               {"declares 18446744073709551615 vertex", "only 6 bytes"});
+  // A list property's length cannot run past the file either.
+  expect_error(file("list2.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                     "end_header\n1 2 3\n1e300 0\n"),
+               {"bad list length"});
+}
+
+TEST(BadInput, LasCountsBeyondTheFileAreNamedExactly) {
+  const TempDir dir;
+  PointCloud c;
+  c.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  io::write_point_cloud(dir.path("good.las"), c);
+  std::string las = read_bytes(dir.path("good.las"));
+  // LAS 1.2: the 32-bit count at byte 107 only; make it 2^32 - 1.
+  const std::uint32_t many = 0xffffffffu;
+  std::memcpy(&las[107], &many, 4);
+  write_text(dir.path("many.las"), las);
+  expect_error(dir.path("many.las"), {"declares 4294967295 points of", "bytes follow"});
+}
+
+// The first bytes are checked before the rest is read: a huge file of another kind is refused at once
+// (sparse files, so the test costs no disk).
+TEST(BadInput, HugeFilesOfAnotherKindAreRefusedAtTheirStart) {
+  const TempDir dir;
+  const auto sparse = [&](const std::string& name, const std::string& start, std::uintmax_t size) {
+    const std::string p = dir.path(name);
+    write_text(p, start);
+    fs::resize_file(p, size);
+    return p;
+  };
+  expect_error(sparse("junk.ply", "junk", std::uintmax_t{2} << 30), {"not a PLY file"});
+  expect_error(sparse("junk.las", "junk", std::uintmax_t{2} << 30), {"not a LAS file"});
+  expect_error(sparse("one_line.xyz", "1 2 3 ", std::uintmax_t{100} << 20), {"line 1", "longer than 64 KiB"});
+  expect_error(sparse("header.ply", "ply\nformat ascii 1.0\ncomment ", std::uintmax_t{2} << 30),
+               {"line 3", "longer than 64 KiB"});
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -92,6 +94,73 @@ TEST(SkeletonIo, BadFilesAndExtensions) {
   EXPECT_THROW(io::read_skeleton(dir.path("bad.json")), InputError);
   std::ofstream(dir.path("broken.json")) << "{\"nodes\": [";
   EXPECT_THROW(io::read_skeleton(dir.path("broken.json")), InputError);
+}
+
+// Skeleton PLY files are read by the same PLY reader as clouds: binary too, any property order, the
+// root from its comment.
+TEST(SkeletonIo, BinaryPlyWithOtherPropertiesIsRead) {
+  const test::TempDir dir;
+  std::string ply = "ply\nformat binary_big_endian 1.0\ncomment root 1\nelement vertex 3\nproperty float radius\n"
+                    "property uchar red\nproperty double x\nproperty double y\nproperty double z\nelement edge 2\n"
+                    "property uint vertex2\nproperty uint vertex1\nend_header\n";
+  const auto put = [&](auto v) {
+    char b[sizeof v];
+    std::memcpy(b, &v, sizeof v);
+    std::reverse(b, b + sizeof v);  // big-endian on a little-endian host
+    ply.append(b, sizeof v);
+  };
+  const double at[3][3] = {{0, 0, 5}, {0, 0, 0}, {1, 0, 6}};
+  for (int i = 0; i < 3; ++i) {
+    put(float(0.5f / (i + 1)));
+    put(std::uint8_t(7));
+    for (double c : at[i]) put(c);
+  }
+  put(std::uint32_t(0)), put(std::uint32_t(1));
+  put(std::uint32_t(2)), put(std::uint32_t(0));
+  std::ofstream(dir.path("b.ply"), std::ios::binary) << ply;
+  const Skeleton s = io::read_skeleton(dir.path("b.ply"));
+  ASSERT_EQ(s.node_count(), 3u);
+  EXPECT_EQ(s.edge_count(), 2u);
+  EXPECT_EQ(s.root, 1u);
+  EXPECT_EQ(s[2].position, Eigen::Vector3d(1, 0, 6));
+  EXPECT_EQ(s[1].radius, 0.25);
+  EXPECT_TRUE(is_tree(s.graph));
+  EXPECT_TRUE(io::looks_like_skeleton(dir.path("b.ply")));
+}
+
+TEST(SkeletonIo, LooksLikeSkeletonTellsCloudsAndMeshesApart) {
+  const test::TempDir dir;
+  io::write_skeleton(dir.path("s.ply"), sample());
+  io::write_skeleton(dir.path("s.json"), sample());
+  EXPECT_TRUE(io::looks_like_skeleton(dir.path("s.ply")));
+  EXPECT_TRUE(io::looks_like_skeleton(dir.path("s.json")));
+  // A cloud that carries a few edges (a scanner's or an editor's extra element) is a cloud.
+  std::string cloud = "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\nproperty float z\n"
+                      "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+  for (int i = 0; i < 6; ++i) cloud += std::to_string(i) + " 0 0\n";
+  std::ofstream(dir.path("cloud.ply")) << cloud + "0 1\n";
+  EXPECT_FALSE(io::looks_like_skeleton(dir.path("cloud.ply")));
+  // A mesh with edges is a mesh, and a cloud without edges a cloud.
+  std::string mesh = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                     "element face 1\nproperty list uchar int vertex_indices\nelement edge 3\nproperty int vertex1\n"
+                     "property int vertex2\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0 1\n1 2\n2 0\n";
+  std::ofstream(dir.path("mesh.ply")) << mesh;
+  EXPECT_FALSE(io::looks_like_skeleton(dir.path("mesh.ply")));
+  std::ofstream(dir.path("plain.ply")) << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
+                                           "property float y\nproperty float z\nend_header\n0 0 0\n";
+  EXPECT_FALSE(io::looks_like_skeleton(dir.path("plain.ply")));
+  EXPECT_FALSE(io::looks_like_skeleton(dir.path("cloud.xyz")));
+}
+
+TEST(SkeletonIo, EdgesNamingMissingVerticesAreRefused) {
+  const test::TempDir dir;
+  for (const char* edge : {"0 3", "0 -1", "0 1.5", "0 1e300", "0 nan"}) {
+    std::ofstream(dir.path("e.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                        "property float z\nelement edge 1\nproperty int vertex1\nproperty int vertex2\n"
+                                        "end_header\n0 0 0\n0 0 1\n0 0 2\n"
+                                     << edge << "\n";
+    EXPECT_THROW(io::read_skeleton(dir.path("e.ply")), InputError) << edge;
+  }
 }
 
 }  // namespace

@@ -22,8 +22,14 @@ void write_skeleton(const std::filesystem::path& path, const Skeleton& skeleton)
 /// The skeleton as JSON text (the .json layout above).
 std::string skeleton_to_json(const Skeleton& skeleton);
 
-/// Reads a skeleton written as .ply or .json (nodes carry no point lists). Without a stored root, the
+/// Reads a skeleton written as .ply (ascii or binary) or .json (nodes carry no point lists). Without a stored root, the
 /// lowest node along z is the root. @throws InputError naming the file.
 Skeleton read_skeleton(const std::filesystem::path& path);
+
+/// True if `path` holds a skeleton rather than a point cloud: a .json file, or a PLY (ascii or binary)
+/// with no faces whose `edge` element (vertex1, vertex2) joins its vertices into a graph (at least one
+/// edge for every two vertices); a cloud's PLY with a few edges, or a mesh, is a cloud.
+/// @throws InputError if a .ply file is missing or its header is malformed.
+bool looks_like_skeleton(const std::filesystem::path& path);
 
 }  // namespace treeskel::io
