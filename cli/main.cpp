@@ -4,6 +4,7 @@
 
 #include <tbb/global_control.h>
 
+#include <csignal>
 #include <iostream>
 #include <memory>
 #include <thread>
@@ -32,6 +33,9 @@ int main(int argc, char** argv) {
     app.exit(e);
     return 2;
   }
+  // A file size limit (ulimit -f, a quota) then fails a write with EFBIG, reported like a full disk,
+  // instead of killing the process mid-file.
+  std::signal(SIGXFSZ, SIG_IGN);
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
   try {
@@ -39,6 +43,9 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("model")) return model();
     if (app.got_subcommand("synth")) return synth();
     if (app.got_subcommand("eval")) return evaluate();
+  } catch (const treeskel::OptionError& e) {
+    std::cerr << "treeskel: error: " << e.what() << '\n';
+    return 2;
   } catch (const treeskel::Error& e) {
     std::cerr << "treeskel: error: " << e.what() << '\n';
     return 1;

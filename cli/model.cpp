@@ -5,6 +5,7 @@
 
 #include "treeskel/error.h"
 #include "treeskel/io/atomic_file.h"
+#include "treeskel/io/output_set.h"
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/io/skeleton_io.h"
@@ -124,6 +125,14 @@ int run(Settings& s) {
   if (!s.report.empty() && io::extension_of(s.report) != "json") throw OptionError("--report must name a .json file");
   if (!s.qsm.empty() && io::extension_of(s.qsm) != "csv") throw OptionError("--qsm must name a .csv file");
   if (!s.skeleton_out.empty()) require_skeleton_extension(s.skeleton_out);
+  check_skeleton_settings(s.method);
+  modeling::check_sweep_options(s.sweep);
+  // Every output is checked before any work and committed together at the end: whole or absent.
+  io::OutputSet outputs({fs::path(s.input)});
+  const fs::path mesh_to = outputs.stage(s.output, "-o");
+  const fs::path report_to = s.report.empty() ? fs::path() : outputs.stage(s.report, "--report");
+  const fs::path qsm_to = s.qsm.empty() ? fs::path() : outputs.stage(s.qsm, "--qsm");
+  const fs::path skeleton_to = s.skeleton_out.empty() ? fs::path() : outputs.stage(s.skeleton_out, "--skeleton");
 
   Progress progress(s.quiet || s.json);
   progress("reading " + fs::path(s.input).filename().string(), 0.0);
@@ -212,12 +221,21 @@ int run(Settings& s) {
   frame.offset = skeleton.offset;
   frame.up = up;
   frame.local = s.local;
-  const io::MeshPlacement placed = io::write_mesh(s.output, mesh, frame, s.with_skeleton ? &skeleton : nullptr);
+  io::MeshPlacement placed;
+  try {
+    placed = io::write_mesh(mesh_to, mesh, frame, s.with_skeleton ? &skeleton : nullptr);
+  } catch (const Error& e) {
+    throw Error(outputs.explain(e.what()));
+  }
   if (!placed.note.empty() && !frame.local && !s.quiet)
     std::cerr << "note: " << s.output << " holds " << placed.note << "; add the offset (" << placed.left_out.x() << ", "
               << placed.left_out.y() << ", " << placed.left_out.z() << ") for the input's frame (also in --report)\n";
-  if (!s.qsm.empty()) io::write_qsm_csv(s.qsm, measurements);
-  if (!s.skeleton_out.empty()) io::write_skeleton(s.skeleton_out, skeleton);
+  try {
+    if (!s.qsm.empty()) io::write_qsm_csv(qsm_to, measurements);
+    if (!s.skeleton_out.empty()) io::write_skeleton(skeleton_to, skeleton);
+  } catch (const Error& e) {
+    throw Error(outputs.explain(e.what()));
+  }
   const double seconds = clock.seconds();
 
   nlohmann::ordered_json j;
@@ -270,7 +288,12 @@ int run(Settings& s) {
   j["warnings"] = warnings;
   j["seconds"] = {{"skeleton", skeleton_seconds}, {"total", seconds}};
   j["peak_memory_mb"] = peak_memory_mb();
-  if (!s.report.empty()) io::write_atomically(s.report, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+  try {
+    if (!s.report.empty()) io::write_atomically(report_to, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+    outputs.commit();
+  } catch (const Error& e) {
+    throw Error(outputs.explain(e.what()));
+  }
   progress.clear();
   if (s.json) {
     std::cout << j.dump(2) << '\n';
@@ -316,20 +339,20 @@ Command add_model(CLI::App& app) {
   auto& r = s->radii;
   auto& w = s->sweep;
   c->add_option("--exponent", r.exponent, "Leonardo exponent e: r_parent^e = sum of r_child^e at forks (2: pipe model)")
-      ->default_val(r.exponent)->check(CLI::Range(1.0, 4.0))->group(g);
+      ->default_val(r.exponent)->check(in_range(1.0, 4.0))->group(g);
   c->add_option("--tip-weight", r.tip_weight,
                 "Pipe model: what a tip carries, in median twig lengths (large: all twigs equally thick)")
-      ->default_val(r.tip_weight)->check(CLI::PositiveNumber)->group(g);
+      ->default_val(r.tip_weight)->check(positive())->group(g);
   c->add_option("--fit-points", r.min_points, "Fewest points of a node for its radius to be measured by a circle fit")
-      ->default_val(r.min_points)->check(CLI::Range(3, 100000))->group(g);
+      ->default_val(r.min_points)->check(in_range(3, 100000))->group(g);
   c->add_option("--segments", w.trunk_segments, "Polygon sides around the trunk; thinner branches get fewer")
-      ->default_val(w.trunk_segments)->check(CLI::Range(3, 256))->group(g);
+      ->default_val(w.trunk_segments)->check(in_range(3, 256))->group(g);
   c->add_option("--min-segments", w.min_segments, "Fewest polygon sides around a branch")
-      ->default_val(w.min_segments)->check(CLI::Range(3, 256))->group(g);
+      ->default_val(w.min_segments)->check(in_range(3, w.max_segments))->group(g);
   c->add_option("--min-radius", w.min_radius, "Leave out branches thinner than this where they start (0: keep all)")
-      ->default_val(w.min_radius)->check(CLI::NonNegativeNumber)->group(g);
+      ->default_val(w.min_radius)->check(not_negative())->group(g);
   c->add_option("--breast-height", s->breast_height, "Height above the base where the DBH is measured (1.3 for metres)")
-      ->default_val(s->breast_height)->check(CLI::PositiveNumber)->group(g);
+      ->default_val(s->breast_height)->check(positive())->group(g);
   c->add_flag("--dbh-from-model", s->dbh_from_model,
               "Take the DBH from the model's radius at breast height, not from a circle fitted to the points of "
               "a slice there (the default; the model's radius is the fallback when that circle is unreliable)")

@@ -1,5 +1,9 @@
 #include "report.h"
 
+#include <cmath>
+#include <functional>
+#include <sstream>
+
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -33,6 +37,45 @@ double peak_memory_mb() {
   struct rusage usage {};
   ::getrusage(RUSAGE_SELF, &usage);
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+namespace {
+
+std::string short_number(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+/// A validator: parses the value as a number and asks `ok`; `says` completes "must be ...".
+CLI::Validator number_check(std::function<bool(double)> ok, const std::string& says) {
+  return CLI::Validator(
+      [ok, says](std::string& text) -> std::string {
+        double v = 0.0;
+        std::size_t used = 0;
+        try {
+          v = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != text.size() || text.empty()) return "'" + text + "' is not a number";
+        if (!ok(v)) return "must be " + says + ", got " + text;
+        return {};
+      },
+      says);
+}
+
+}  // namespace
+
+CLI::Validator in_range(double lo, double hi) {
+  return number_check([lo, hi](double v) { return v >= lo && v <= hi; },
+                      "between " + short_number(lo) + " and " + short_number(hi));
+}
+
+CLI::Validator positive() { return number_check([](double v) { return v > 0.0 && std::isfinite(v); }, "a positive number"); }
+
+CLI::Validator not_negative() {
+  return number_check([](double v) { return v >= 0.0 && std::isfinite(v); }, "a number not below 0");
 }
 
 }  // namespace treeskel::cli

@@ -1,6 +1,8 @@
 // Small helpers shared by the command-line subcommands: progress on a terminal, timing, messages.
 #pragma once
 
+#include <CLI/CLI.hpp>
+
 #include <chrono>
 #include <string>
 
@@ -34,5 +36,12 @@ std::string format_seconds(double seconds);
 
 /// The process's peak resident memory so far, in MB.
 double peak_memory_mb();
+
+/// Option checks whose messages print the bounds as they are written ("between 0 and 1", not
+/// CLI11's 300-digit rendering of the largest double): a number in [lo, hi], a positive number, a
+/// number not below zero.
+CLI::Validator in_range(double lo, double hi);
+CLI::Validator positive();
+CLI::Validator not_negative();
 
 }  // namespace treeskel::cli

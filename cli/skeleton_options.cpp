@@ -1,4 +1,5 @@
 #include "skeleton_options.h"
+#include "report.h"
 
 #include "treeskel/error.h"
 #include "treeskel/io/atomic_file.h"
@@ -43,41 +44,46 @@ void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
   c.add_option("--root-slice", o.root.slice, "Thickness of the trunk base slice the geodesic distance starts from (0: two cells)")
       ->default_val(o.root.slice)->group(g);
   c.add_option("--depth", o.octree.depth, "Octree depth (0: the deepest whose cells hold --cell-points points on average)")
-      ->default_val(o.octree.depth)->check(CLI::Range(0, 21))->group(g);
+      ->default_val(o.octree.depth)->check(in_range(0, 21))->group(g);
   c.add_option("--cell-points", o.octree.points_per_cell,
                 "Mean points per octree cell that sets the depth (0: the paper's depth, 2 + log8 N)")
-      ->default_val(o.octree.points_per_cell)->check(CLI::NonNegativeNumber)->group(g);
+      ->default_val(o.octree.points_per_cell)->check(not_negative())->group(g);
   c.add_option("--neighbours", s.neighbours, "Neighbour graph: 'octree' (26-adjacent cells) or 'knn' (k nearest skeleton points)")
       ->default_val("octree")->check(CLI::IsMember({"octree", "knn"}))->group(g);
   c.add_option("--reach", o.graph.reach, "With --neighbours octree: cells this many cells apart are neighbours (1: the paper's 26)")
-      ->default_val(o.graph.reach)->check(CLI::Range(1, 3))->group(g);
+      ->default_val(o.graph.reach)->check(in_range(1, 3))->group(g);
   c.add_option("-k", o.graph.k, "Neighbours per skeleton point with --neighbours knn")->default_val(o.graph.k)
-      ->check(CLI::Range(1, 1000))->group(g);
+      ->check(in_range(1, 1000))->group(g);
   c.add_option("--bridge", o.graph.bridge_distance,
                 "Join parts of the cloud whose gap is at most this long (0: 4 cells; negative: never)")
       ->default_val(o.graph.bridge_distance)->group(g);
   c.add_option("--small-cluster", o.graph.small_cluster_fraction,
                 "Parts left apart that hold less than this share of the points are reported as noise")
-      ->default_val(o.graph.small_cluster_fraction)->check(CLI::Range(0.0, 1.0))->group(g);
+      ->default_val(o.graph.small_cluster_fraction)->check(in_range(0.0, 1.0))->group(g);
   c.add_option("--band", o.level_sets.band_width, "Width of a level set band of geodesic distance (0: 2 cells)")
-      ->default_val(o.level_sets.band_width)->check(CLI::NonNegativeNumber)->group(g);
+      ->default_val(o.level_sets.band_width)->check(not_negative())->group(g);
   c.add_option("--prune-length", o.prune.min_length, "Remove leaf branches shorter than this (0: 1 band)")
-      ->default_val(o.prune.min_length)->check(CLI::NonNegativeNumber)->group(g);
+      ->default_val(o.prune.min_length)->check(not_negative())->group(g);
   c.add_option("--prune-radius", o.prune.radius_factor, "... or that stay within this many radii of the branch they leave")
-      ->default_val(o.prune.radius_factor)->check(CLI::NonNegativeNumber)->group(g);
+      ->default_val(o.prune.radius_factor)->check(not_negative())->group(g);
   c.add_option("--cpc-weight", o.cpc.weight, "Weight w of the equal-distance (cylinder) term of CPC")
-      ->default_val(o.cpc.weight)->check(CLI::NonNegativeNumber)->group(g);
+      ->default_val(o.cpc.weight)->check(not_negative())->group(g);
   c.add_option("--eta", o.refine.eta, "Refinement threshold factor eta of eq. 8")->default_val(o.refine.eta)
-      ->check(CLI::NonNegativeNumber)->group(g);
+      ->check(not_negative())->group(g);
   c.add_option("--samples", o.smooth.samples_per_edge, "Spline points inserted between adjacent nodes")
-      ->default_val(o.smooth.samples_per_edge)->check(CLI::Range(0, 100))->group(g);
+      ->default_val(o.smooth.samples_per_edge)->check(in_range(0, 100))->group(g);
   c.add_option("--tension", o.smooth.tension, "Cardinal spline tension (0: Catmull-Rom, 1: straight)")
-      ->default_val(o.smooth.tension)->check(CLI::Range(0.0, 1.0))->group(g);
+      ->default_val(o.smooth.tension)->check(in_range(0.0, 1.0))->group(g);
   c.add_flag("--no-prune", s.no_prune, "Keep every level-set branch, however short")->group(g);
   c.add_flag("--no-cpc", s.no_cpc, "Skip the cylindrical prior constraint (nodes stay at L1-medians)")->group(g);
   c.add_flag("--no-refine", s.no_refine, "Skip the topology refinement at branch nodes")->group(g);
   c.add_flag("--no-junctions", s.no_junctions, "Leave forks where the level sets put them (no axis-meeting placement)")->group(g);
   c.add_flag("--no-smooth", s.no_smooth, "Skip the spline smoothing")->group(g);
+}
+
+void check_skeleton_settings(const SkeletonSettings& s) {
+  parse_up(s.up);
+  if (!s.root.empty()) parse_vector(s.root, "--root");
 }
 
 SkeletonOptions skeleton_options_for(const SkeletonSettings& s, const PointCloud& cloud) {

@@ -25,6 +25,9 @@ void add_skeleton_options(CLI::App& command, SkeletonSettings& settings);
 /// The options for `cloud`, the command line applied (`--root` is given in the input frame).
 SkeletonOptions skeleton_options_for(const SkeletonSettings& settings, const PointCloud& cloud);
 
+/// Checks what the command line gives as text (--up, --root) before any work. @throws OptionError.
+void check_skeleton_settings(const SkeletonSettings& settings);
+
 /// Parses "x", "-y", ... or "x,y,z" as a unit direction.
 Eigen::Vector3d parse_up(const std::string& text);
 

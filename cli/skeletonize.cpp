@@ -5,6 +5,7 @@
 
 #include "treeskel/error.h"
 #include "treeskel/io/atomic_file.h"
+#include "treeskel/io/output_set.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/io/skeleton_io.h"
 #include "treeskel/pipeline.h"
@@ -35,6 +36,9 @@ int run(Settings& s) {
   if (s.input.empty()) s.input = TREESKEL_DEFAULT_EXAMPLE;
   if (s.output.empty()) s.output = fs::path(s.input).stem().string() + "_skeleton.ply";
   require_skeleton_extension(s.output);
+  check_skeleton_settings(s.method);
+  io::OutputSet outputs({fs::path(s.input)});
+  const fs::path output_to = outputs.stage(s.output, "-o");
 
   Progress progress(s.quiet || s.json);
   progress("reading " + fs::path(s.input).filename().string(), 0.0);
@@ -46,7 +50,12 @@ int run(Settings& s) {
   SkeletonStats stats;
   const Skeleton skeleton = extract_skeleton_of(s.input, cloud, o, &stats);
   progress("writing " + fs::path(s.output).filename().string(), 0.97);
-  io::write_skeleton(s.output, skeleton);
+  try {
+    io::write_skeleton(output_to, skeleton);
+    outputs.commit();
+  } catch (const Error& e) {
+    throw Error(outputs.explain(e.what()));
+  }
   const double seconds = clock.seconds();
   progress.clear();
 

@@ -114,7 +114,7 @@ Command add_eval(CLI::App& app) {
   c->add_option("predicted", s->predicted, "Skeleton to score")->required();
   c->add_option("truth", s->truth, "Ground-truth skeleton")->required();
   c->add_option("--tau", s->tau, "Matching distance for branch points and endpoints")->default_val(s->tau)
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   c->add_flag("--json", s->json, "Print the measures as JSON");
   return [s] { return run_eval(*s); };
 }

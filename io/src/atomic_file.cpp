@@ -2,6 +2,8 @@
 
 #include "treeskel/error.h"
 
+#include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,11 +11,36 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
-#include <sstream>
+#include <functional>
 
 namespace treeskel::io {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+/// A short tag of this machine, so that runs on other machines sharing a folder are told apart.
+std::string machine_tag() {
+  char name[256] = {};
+  ::gethostname(name, sizeof name - 1);
+  const std::size_t h = std::hash<std::string>{}(name);
+  char out[9];
+  std::snprintf(out, sizeof out, "%08x", static_cast<unsigned>(h & 0xffffffffu));
+  return out;
+}
+
+/// Flushes a written file to the device and reports whether the device took it.
+bool synced(const fs::path& file) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool ok = ::fsync(fd) == 0 || errno == EINVAL;  // EINVAL: a file system without fsync
+  return ::close(fd) == 0 && ok;
+}
+
+/// Why the last system call failed, or a generic reason when it did not say.
+std::string reason() { return errno != 0 ? std::string(std::strerror(errno)) : std::string("the disk refused the data"); }
+
+}  // namespace
 
 std::string extension_of(const fs::path& path) {
   std::string ext = path.extension().string();
@@ -28,33 +55,62 @@ std::string read_whole_file(const fs::path& path) {
   if (fs::is_directory(path, ec)) throw InputError(path.string() + ": is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot open for reading: " + std::strerror(errno));
-  std::string data;
-  in.seekg(0, std::ios::end);
-  const auto size = in.tellg();
-  if (size < 0) throw InputError(path.string() + ": cannot read");
-  data.resize(static_cast<std::size_t>(size));
-  in.seekg(0, std::ios::beg);
-  in.read(data.data(), size);
-  if (!in) throw InputError(path.string() + ": read failed: " + std::strerror(errno));
+  std::string data(std::istreambuf_iterator<char>(in), {});
+  if (in.bad()) throw InputError(path.string() + ": read failed: " + std::strerror(errno));
   return data;
 }
 
-void write_atomically(const fs::path& target, const std::function<void(std::ostream&)>& body) {
+std::string temporary_prefix() {
+  static const std::string machine = ".treeskel-" + machine_tag() + "-";
+  return machine + std::to_string(::getpid()) + "-";  // not cached: a forked child has its own
+}
+
+std::size_t remove_stale_temporaries(const fs::path& dir) {
+  static const std::string ours = ".treeskel-" + machine_tag() + "-";
+  std::size_t removed = 0;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind(ours, 0) != 0) continue;
+    const std::string rest = name.substr(ours.size());
+    const std::size_t dash = rest.find('-');
+    if (dash == 0 || dash == std::string::npos || !std::all_of(rest.begin(), rest.begin() + dash, ::isdigit)) continue;
+    const long pid = std::strtol(rest.substr(0, dash).c_str(), nullptr, 10);
+    if (pid <= 0 || pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    std::error_code gone;
+    if (fs::remove_all(it->path(), gone) > 0 && !gone) ++removed;
+  }
+  return removed;
+}
+
+fs::path write_destination(const fs::path& target) {
+  std::error_code ec;
+  if (!fs::is_symlink(target, ec)) return target;
+  fs::path to = fs::read_symlink(target, ec);
+  if (ec) return target;
+  if (to.is_relative()) to = (target.has_parent_path() ? target.parent_path() : fs::path(".")) / to;
+  return write_destination(to.lexically_normal());
+}
+
+void write_atomically(const fs::path& requested, const std::function<void(std::ostream&)>& body) {
   static std::atomic<unsigned> counter{0};
+  const fs::path target = write_destination(requested);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw Error(target.string() + ": cannot write: folder " + dir.string() + " does not exist");
-  if (fs::is_directory(target, ec)) throw Error(target.string() + ": cannot write: it is a directory");
-  const fs::path temp = dir / ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                               std::to_string(counter++));
+  if (!fs::is_directory(dir, ec)) throw Error(requested.string() + ": cannot write: folder " + dir.string() + " does not exist");
+  if (fs::is_directory(target, ec)) throw Error(requested.string() + ": cannot write: it is a directory");
+  remove_stale_temporaries(dir);
+  const fs::path temp = dir / (temporary_prefix() + std::to_string(counter++) + "-" + target.filename().string());
   try {
+    errno = 0;
     {
       std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-      if (!out) throw Error(target.string() + ": cannot write: " + std::strerror(errno));
+      if (!out) throw Error(requested.string() + ": cannot write: " + std::strerror(errno));
       body(out);
-      out.flush();
-      if (!out) throw Error(target.string() + ": writing failed (disk full?)");
+      out.close();
+      if (out.fail()) throw Error(requested.string() + ": writing failed: " + reason() + " (disk full?)");
     }
+    if (!synced(temp)) throw Error(requested.string() + ": writing failed: " + reason() + " (disk full?)");
     fs::rename(temp, target);
   } catch (...) {
     fs::remove(temp, ec);

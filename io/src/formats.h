@@ -3,6 +3,7 @@
 #pragma once
 
 #include "treeskel/point_cloud.h"
+#include "treeskel/skeleton.h"
 
 #include <iosfwd>
 #include <string>
@@ -13,6 +14,11 @@ namespace treeskel::io::detail {
 PointCloud read_xyz(std::string_view data, const std::string& name);
 PointCloud read_ply(std::string_view data, const std::string& name);
 PointCloud read_las(std::string_view data, const std::string& name);
+
+/// Skeleton readers (skeleton_io.cpp): nodes carry no point lists; the root as stored, else 0 (JSON)
+/// or the lowest node along z (PLY).
+Skeleton read_skeleton_json(std::string_view data, const std::string& name);
+Skeleton read_skeleton_ply(std::string_view data, const std::string& name);
 
 void write_xyz(std::ostream& out, const PointCloud& cloud);
 void write_ply(std::ostream& out, const PointCloud& cloud, bool binary);

@@ -5,6 +5,8 @@
 #include "formats.h"
 
 #include <assimp/Exporter.hpp>
+#include <assimp/IOStream.hpp>
+#include <assimp/IOSystem.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
@@ -16,12 +18,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <ostream>
 #include <system_error>
-#include <unistd.h>
 
 namespace treeskel::io {
 
@@ -122,20 +122,50 @@ std::unique_ptr<aiScene> make_scene(const modeling::TreeMesh& mesh, const Eigen:
   return scene;
 }
 
-/// A folder beside `target` that is removed with whatever is left in it.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const fs::path& target) {
-    const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    std::string pattern = (dir / ("." + target.filename().string() + ".XXXXXX")).string();
-    if (::mkdtemp(pattern.data()) == nullptr)
-      throw Error("cannot write " + target.string() + ": cannot create a temporary folder in " + dir.string());
-    path = pattern;
+/// assimp's output kept in memory: every file an exporter opens for writing (the main file and side
+/// files such as a .gltf's .bin) becomes a string, written to the disk by treeskel's own checked,
+/// atomic writer afterwards (assimp's file streams do not report a full disk).
+class MemoryFile : public Assimp::IOStream {
+ public:
+  explicit MemoryFile(std::string& data) : data_(data) {}
+  size_t Read(void*, size_t, size_t) override { return 0; }
+  size_t Write(const void* buffer, size_t size, size_t count) override {
+    const std::size_t bytes = size * count;
+    if (at_ + bytes > data_.size()) data_.resize(at_ + bytes);
+    std::memcpy(data_.data() + at_, buffer, bytes);
+    at_ += bytes;
+    return count;
   }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
+  aiReturn Seek(size_t offset, aiOrigin origin) override {
+    const std::size_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? at_ : data_.size();
+    at_ = base + offset;  // past the end too: the GLB exporter writes its chunks first, its header last
+    if (at_ > data_.size()) data_.resize(at_);
+    return aiReturn_SUCCESS;
   }
+  size_t Tell() const override { return at_; }
+  size_t FileSize() const override { return data_.size(); }
+  void Flush() override {}
+
+ private:
+  std::string& data_;
+  std::size_t at_ = 0;
+};
+
+class MemoryFiles : public Assimp::IOSystem {
+ public:
+  explicit MemoryFiles(std::map<std::string, std::string>& files) : files_(files) {}
+  bool Exists(const char* path) const override { return files_.count(path) > 0; }
+  char getOsSeparator() const override { return '/'; }
+  Assimp::IOStream* Open(const char* path, const char* mode) override {
+    if (std::strchr(mode, 'w') == nullptr) return nullptr;
+    auto& data = files_[path];
+    data.clear();
+    return new MemoryFile(data);
+  }
+  void Close(Assimp::IOStream* file) override { delete file; }
+
+ private:
+  std::map<std::string, std::string>& files_;
 };
 
 /// Writes OBJ text with every coordinate in double precision (shortest exact decimal), the mesh's
@@ -187,39 +217,36 @@ void set_root_translation(nlohmann::json& doc, const Eigen::Vector3d& t) {
 }
 
 /// The same in a .gltf (JSON text) or .glb (binary container: header, JSON chunk, BIN chunk) file.
-void patch_root_translation(const fs::path& file, bool binary, const Eigen::Vector3d& t) {
-  std::string data = read_whole_file(file);
-  std::string out;
+std::string with_root_translation(const std::string& data, bool binary, const Eigen::Vector3d& t,
+                                  const fs::path& file) {
   if (!binary) {
     nlohmann::json doc = nlohmann::json::parse(data);
     set_root_translation(doc, t);
-    out = doc.dump();
-  } else {
-    auto u32 = [&](std::size_t at) {
-      std::uint32_t v = 0;
-      std::memcpy(&v, data.data() + at, 4);
-      return v;
-    };
-    if (data.size() < 20 || data.compare(0, 4, "glTF") != 0 || data.compare(16, 4, "JSON") != 0)
-      throw Error("cannot write " + file.string() + ": assimp wrote no GLB JSON chunk");
-    const std::size_t json_length = u32(12);
-    nlohmann::json doc = nlohmann::json::parse(data.substr(20, json_length));
-    set_root_translation(doc, t);
-    std::string json = doc.dump();
-    json.append((4 - json.size() % 4) % 4, ' ');  // chunks are 4-byte aligned, JSON padded with spaces
-    const std::string rest = data.substr(20 + json_length);
-    auto put = [&](std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
-    out = data.substr(0, 8);
-    put(static_cast<std::uint32_t>(12 + 8 + json.size() + rest.size()));
-    put(static_cast<std::uint32_t>(json.size()));
-    out += "JSON";
-    out += json;
-    out += rest;
+    return doc.dump();
   }
-  std::ofstream stream(file, std::ios::binary | std::ios::trunc);
-  stream.write(out.data(), static_cast<std::streamsize>(out.size()));
-  stream.close();
-  if (!stream) throw Error("cannot write " + file.string() + ": the disk refused the data");
+  auto u32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, data.data() + at, 4);
+    return v;
+  };
+  if (data.size() < 20 || data.compare(0, 4, "glTF") != 0 || data.compare(16, 4, "JSON") != 0 ||
+      u32(12) > data.size() - 20)
+    throw Error("cannot write " + file.string() + ": assimp wrote no GLB JSON chunk");
+  const std::size_t json_length = u32(12);
+  nlohmann::json doc = nlohmann::json::parse(data.substr(20, json_length));
+  set_root_translation(doc, t);
+  std::string json = doc.dump();
+  json.append((4 - json.size() % 4) % 4, ' ');  // chunks are 4-byte aligned, JSON padded with spaces
+  const std::string rest = data.substr(20 + json_length);
+  std::string out;
+  auto put = [&](std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
+  out = data.substr(0, 8);
+  put(static_cast<std::uint32_t>(12 + 8 + json.size() + rest.size()));
+  put(static_cast<std::uint32_t>(json.size()));
+  out += "JSON";
+  out += json;
+  out += rest;
+  return out;
 }
 
 }  // namespace
@@ -273,19 +300,26 @@ MeshPlacement write_mesh(const fs::path& path, const modeling::TreeMesh& mesh, c
   const Eigen::Matrix3d rotation = gltf ? y_up_rotation(frame.up) : Eigen::Matrix3d::Identity();
   placed.y_up_rotation = gltf && !rotation.isIdentity();
   const auto scene = make_scene(mesh, shift, skeleton, skeleton_shift, rotation);
-  // assimp writes to a file name of its own choosing for side files (.bin of .gltf), so the export
-  // goes into a private folder first and its files are moved beside the target when all is written.
-  TempDir temp(path);
+  // assimp names side files (the .bin of a .gltf) after the main file: all of them are exported into
+  // memory, then written atomically beside the target, the main file last so that it never refers
+  // to a side file not there yet.
+  std::map<std::string, std::string> files;
   Assimp::Exporter exporter;
-  const fs::path staged = temp.path / path.filename();
-  if (exporter.Export(scene.get(), format->second, staged.string()) != AI_SUCCESS)
+  exporter.SetIOHandler(new MemoryFiles(files));  // the exporter owns it
+  const std::string main_name = path.filename().string();
+  if (exporter.Export(scene.get(), format->second, main_name) != AI_SUCCESS || files.count(main_name) == 0)
     throw Error("cannot write " + path.string() + ": " + exporter.GetErrorString());
-  if (gltf) patch_root_translation(staged, ext == "glb", frame.local ? Eigen::Vector3d::Zero() : Eigen::Vector3d(rotation * frame.offset));
+  if (gltf)
+    files[main_name] = with_root_translation(files[main_name], ext == "glb",
+                                             frame.local ? Eigen::Vector3d::Zero() : Eigen::Vector3d(rotation * frame.offset), path);
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  // The main file last, so that it never refers to a side file not there yet.
-  for (const auto& entry : fs::directory_iterator(temp.path))
-    if (entry.path().filename() != path.filename()) fs::rename(entry.path(), dir / entry.path().filename());
-  fs::rename(staged, path);
+  for (const auto& [name, data] : files)
+    if (name != main_name)
+      write_atomically(dir / fs::path(name).filename(), [&](std::ostream& out) { out.write(data.data(), std::streamsize(data.size())); });
+  write_atomically(path, [&](std::ostream& out) {
+    const std::string& data = files[main_name];
+    out.write(data.data(), static_cast<std::streamsize>(data.size()));
+  });
   return placed;
 }
 

@@ -57,7 +57,11 @@ void write_obj(std::ostream& out, const Skeleton& s) {
   out << text;
 }
 
-Skeleton from_json(std::string_view data, const std::string& name) {
+}  // namespace
+
+namespace detail {
+
+Skeleton read_skeleton_json(std::string_view data, const std::string& name) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(data.begin(), data.end());
@@ -102,7 +106,7 @@ SkeletonElements skeleton_elements(const detail::PlyHeader& header) {
   return out;
 }
 
-Skeleton from_ply(std::string_view data, const std::string& name) {
+Skeleton read_skeleton_ply(std::string_view data, const std::string& name) {
   const detail::PlyHeader header = detail::parse_ply_header(data, name);
   const SkeletonElements found = skeleton_elements(header);
   if (!found.vertex) throw InputError(name + ": the skeleton PLY has no vertex element with x, y and z");
@@ -154,7 +158,7 @@ Skeleton from_ply(std::string_view data, const std::string& name) {
   return s;
 }
 
-}  // namespace
+}  // namespace detail
 
 std::string skeleton_to_json(const Skeleton& s) {
   nlohmann::ordered_json j;
@@ -199,7 +203,7 @@ Skeleton read_skeleton(const std::filesystem::path& path) {
   const detail::InputFile file(path);
   const std::string_view data = file.bytes();
   if (data.empty()) throw InputError(path.string() + ": the file is empty");
-  Skeleton s = ext == "json" ? from_json(data, path.string()) : from_ply(data, path.string());
+  Skeleton s = ext == "json" ? detail::read_skeleton_json(data, path.string()) : detail::read_skeleton_ply(data, path.string());
   if (s.node_count() == 0) throw InputError(path.string() + ": the skeleton has no node");
   if (s.root >= s.node_count()) throw InputError(path.string() + ": the root is not a node");
   return s;
@@ -211,7 +215,7 @@ bool looks_like_skeleton(const std::filesystem::path& path) {
   if (ext != "ply") return false;
   const detail::InputFile file(path);
   const detail::PlyHeader header = detail::parse_ply_header(file.bytes(), path.string());
-  const SkeletonElements found = skeleton_elements(header);
+  const detail::SkeletonElements found = detail::skeleton_elements(header);
   return found.vertex && found.edge && header.find("face") == nullptr && found.edge->count > 0 &&
          2 * found.edge->count >= found.vertex->count;
 }

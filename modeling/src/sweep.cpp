@@ -1374,13 +1374,17 @@ void sweep_piece(const Skeleton& piece, const SweepOptions& options, SweepStats&
 
 }  // namespace
 
-TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, SweepStats* stats) {
+void check_sweep_options(const SweepOptions& options) {
   if (options.min_segments < 3 || options.max_segments < options.min_segments || options.trunk_segments < 3)
     throw OptionError("segments around a branch: need 3 <= min <= max and at least 3 around the trunk");
   if (options.min_radius < 0.0 || options.min_relative_radius < 0.0 || options.min_relative_radius >= 1.0)
     throw OptionError("the minimum branch radius must not be negative (and the relative one below 1)");
   if (!(options.ring_spacing > 0.0) || !(options.max_turn > 0.0)) throw OptionError("ring spacing and turn must be positive");
   if (!(options.repair_shrink > 0.0 && options.repair_shrink < 1.0)) throw OptionError("the repair shrink factor must be in (0, 1)");
+}
+
+TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, SweepStats* stats) {
+  check_sweep_options(options);
   const ChainTree tree = build_chains(skeleton);
   const auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);

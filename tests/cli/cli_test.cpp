@@ -23,9 +23,10 @@ struct Result {
   std::string out;  // stdout and stderr
 };
 
-/// Runs the tool with `args` (a shell word list) in `cwd`, capturing both streams.
-Result run(const std::string& args, const std::string& cwd = ".") {
-  const std::string command = "cd '" + cwd + "' && '" TREESKEL_EXE "' " + args + " 2>&1";
+/// Runs the tool with `args` (a shell word list) in `cwd`, capturing both streams; `before` is shell
+/// text run first in the same shell (e.g. a ulimit).
+Result run(const std::string& args, const std::string& cwd = ".", const std::string& before = "") {
+  const std::string command = "cd '" + cwd + "' && " + before + " '" TREESKEL_EXE "' " + args + " 2>&1";
   Result r;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return r;
@@ -113,7 +114,7 @@ TEST(Cli, BadInputFailsWithAMessageAndWritesNothing) {
   EXPECT_EQ(old, "old");
   // Unknown output extension: refused before any work.
   const Result bad = run("skeletonize -o " + quoted(dir.path("tree.stl")));
-  EXPECT_EQ(bad.code, 1);
+  EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.out.find("unknown skeleton extension"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir.path("tree.stl")));
   // Only the files the test made are in the folder: no temporaries left behind.
@@ -243,7 +244,7 @@ TEST(Cli, ModelFormatsAndBadUse) {
     EXPECT_TRUE(fs::exists(dir.path(std::string("tree.") + ext))) << ext;
   }
   const Result bad_ext = run("model " + cloud + " -o tree.fbx", dir.root());
-  EXPECT_EQ(bad_ext.code, 1);
+  EXPECT_EQ(bad_ext.code, 2);  // a usage error
   EXPECT_NE(bad_ext.out.find("unknown mesh extension"), std::string::npos) << bad_ext.out;
   EXPECT_FALSE(fs::exists(dir.path("tree.fbx")));
   // A skeleton saved by `skeletonize` has zero radii where none was measured: the pipe model fills
@@ -283,6 +284,91 @@ TEST(Cli, ModelFormatsAndBadUse) {
   EXPECT_EQ(help.code, 0);
   EXPECT_NE(help.out.find("--exponent"), std::string::npos);
   EXPECT_NE(help.out.find("--qsm"), std::string::npos);
+}
+
+std::string text_of(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+/// Names in `dir` that treeskel's temporary files and folders start with.
+int temporaries_in(const std::string& dir) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) n += e.path().filename().string().rfind(".treeskel-", 0) == 0;
+  return n;
+}
+
+// A disk that refuses the data (here a file size limit, as a full disk or a quota does) fails the run
+// and leaves the old file as it was, in every mesh format.
+TEST(Cli, FullDiskFailsAndKeepsTheOldFile) {
+  const test::TempDir dir;
+  const std::string input = quoted(test::data_file("tree_adtree1.xyz"));
+  for (const char* ext : {"obj", "ply", "stl", "glb", "gltf"}) {
+    const std::string out = dir.path(std::string("m.") + ext);
+    std::ofstream(out) << "old";
+    // ulimit -f counts 512-byte blocks in dash: 200 KB, less than any of these meshes.
+    const Result r = run("model " + input + " -o " + quoted(out) + " -q", dir.root(), "ulimit -f 400;");
+    EXPECT_EQ(r.code, 1) << ext << ": " << r.out;
+    EXPECT_NE(r.out.find("writing failed"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find(".treeskel-"), std::string::npos) << "the message names a temporary file: " << r.out;
+    EXPECT_EQ(text_of(out), "old") << ext;
+    EXPECT_EQ(temporaries_in(dir.root()), 0) << ext;
+    EXPECT_FALSE(fs::exists(dir.path("m.bin"))) << ext;
+  }
+}
+
+TEST(Cli, AnOutputThatIsTheInputIsRefused) {
+  const test::TempDir dir;
+  io::write_point_cloud(dir.path("c.ply"), io::read_point_cloud(test::data_file("tree_rtwig.txt")));
+  const std::string before = text_of(dir.path("c.ply"));
+  Result r = run("skeletonize c.ply -o c.ply", dir.root());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("is the input"), std::string::npos) << r.out;
+  fs::create_symlink(dir.path("c.ply"), dir.path("link.ply"));
+  r = run("skeletonize c.ply -o link.ply", dir.root());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_EQ(text_of(dir.path("c.ply")), before);
+  EXPECT_EQ(temporaries_in(dir.root()), 0);
+}
+
+// Every output is checked before any work, and none is written when one cannot be.
+TEST(Cli, SideOutputsAreCheckedBeforeAnyWork) {
+  const test::TempDir dir;
+  fs::create_directory(dir.path("folder.csv"));
+  for (const std::string side : {"--report nodir/r.json", "--qsm nodir/q.csv", "--skeleton nodir/s.ply",
+                                 "--qsm folder.csv", "--report m.glb"}) {
+    const Result r = run("model -o m.glb " + side, dir.root());
+    EXPECT_EQ(r.code, 2) << side << ": " << r.out;
+    EXPECT_FALSE(fs::exists(dir.path("m.glb"))) << side;
+    EXPECT_EQ(r.out.find("reading"), std::string::npos) << side << ": " << r.out;
+  }
+  EXPECT_EQ(temporaries_in(dir.root()), 0);
+}
+
+TEST(Cli, AnOutputThatIsASymbolicLinkStaysOne) {
+  const test::TempDir dir;
+  fs::create_directory(dir.path("real"));
+  std::ofstream(dir.path("real/s.json")) << "old";
+  fs::create_symlink("real/s.json", dir.path("s.json"));
+  const Result r = run("skeletonize -o s.json -q", dir.root());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::is_symlink(dir.path("s.json")));
+  EXPECT_NE(text_of(dir.path("real/s.json")).find("treeskel skeleton"), std::string::npos);
+  EXPECT_EQ(temporaries_in(dir.root()) + temporaries_in(dir.path("real")), 0);
+}
+
+// Usage errors exit with 2 at once, with messages a person can read.
+TEST(Cli, UsageErrorsExitTwoBeforeAnyWork) {
+  const test::TempDir dir;
+  for (const std::string args : {"model --up w", "model -o x.fbx", "model --qsm q.txt", "model --min-segments 100",
+                                 "model --breast-height -1", "skeletonize --root 1,2", "model --tension 2",
+                                 "skeletonize -o x.stl", "model -o ."}) {
+    const Result r = run(args, dir.root());
+    EXPECT_EQ(r.code, 2) << args << ": " << r.out;
+    EXPECT_LT(r.out.size(), 300u) << args << ": " << r.out;
+    EXPECT_EQ(r.out.find("reading"), std::string::npos) << args << ": " << r.out;
+  }
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.root()), fs::directory_iterator()), 0);
 }
 
 }  // namespace

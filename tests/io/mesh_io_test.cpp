@@ -39,7 +39,11 @@ TEST(MeshIo, EveryFormatReadsBackWithTheSameCounts) {
     for (auto v : back.vertices()) min_out = std::min(min_out, back.point(v)[up]);
     EXPECT_NEAR(min_out, min_in + 30.0, 1e-4);
   }
-  EXPECT_TRUE(fs::exists(dir.path("tree.bin")));  // beside the .gltf
+  // The buffer the .gltf names is beside it (assimp names it after the file, "tree.bin" or "tree_0.bin").
+  const auto gltf = nlohmann::json::parse(read_whole_file(dir.path("tree.gltf")));
+  const std::string bin = gltf.at("buffers").at(0).at("uri").get<std::string>();
+  EXPECT_EQ(bin.rfind("tree", 0), 0u) << bin;
+  EXPECT_TRUE(fs::exists(dir.path(bin))) << bin;
   // Nothing else was left behind (no temporary folders, no material file).
   std::size_t files = 0;
   for (const auto& e : fs::directory_iterator(dir.root())) {

@@ -95,6 +95,9 @@ struct SweepStats {
   std::size_t float_crossings = 0;
 };
 
+/// @throws OptionError naming the first option of `options` out of range (what sweep_mesh refuses).
+void check_sweep_options(const SweepOptions& options);
+
 /// Sweeps the branches of a skeleton with radii into one closed, 2-manifold, outward-oriented
 /// triangle mesh. Ring polygons keep each cross section's area (so volumes are exact for straight
 /// branches). The mesh is in the skeleton's local frame.
