@@ -6,6 +6,8 @@
 #        TREESKEL_MESHLAB_PLUGIN=1     also the MeshLab plugin and its tests: Debian's MeshLab, Qt, GLEW,
 #                                      Xvfb, and MeshLab's headers from its source package
 #        TREESKEL_BUILD_TARGET=name    build this target only
+#        TREESKEL_EXTRA_PACKAGES="a b" also these Debian packages (e.g. clang for scripts/fuzz.sh)
+#        TREESKEL_INSTALL_ONLY=1       install what is missing and stop (no build)
 set -euo pipefail
 trap 'echo "setup: failed (exit $?) at: $BASH_COMMAND" >&2' ERR
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -32,11 +34,14 @@ meshlab=${TREESKEL_MESHLAB_PLUGIN:-0}
 if [ "$meshlab" = 1 ]; then
   packages+=(meshlab qtbase5-dev libqt5opengl5-dev libglew-dev dpkg-dev xvfb xauth xdotool)
 fi
+read -r -a extra <<< "${TREESKEL_EXTRA_PACKAGES:-}"
+packages+=("${extra[@]}")
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 [ ${#missing[@]} -eq 0 ] || apt_install "${missing[@]}"
+[ "${TREESKEL_INSTALL_ONLY:-0}" = 1 ] && exit 0
 
 # The test suite checks exported glTF files with the Khronos validator, an npm package run by Node
 # (not needed when building a single target, e.g. the plugin alone).

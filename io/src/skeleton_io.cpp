@@ -65,7 +65,7 @@ Skeleton read_skeleton_json(std::string_view data, const std::string& name) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(data.begin(), data.end());
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for a number too large
     throw InputError(name + ": not valid JSON: " + e.what());
   }
   Skeleton s;

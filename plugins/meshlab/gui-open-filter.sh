@@ -1,25 +1,28 @@
 #!/usr/bin/env bash
-# Opens the dialog of one of treeskel's filters in a running MeshLab 2020.09 GUI, by clicking
-# Filters > Point Set > the filter with xdotool, and waits until the dialog is there.
-# For the screenshots and the GUI tests: MeshLab in a 1280x1024 Xvfb screen, where its main window
-# opens at the top left. Usage (DISPLAY set): gui-open-filter.sh "Tree Mesh from Point Cloud"
+# Opens the dialog of a filter in a running MeshLab 2020.09 GUI by its name, through MeshLab's filter
+# search (Ctrl+F, type the name, Down, Return: no menu positions), and waits until the dialog is there.
+# For the screenshots and the GUI tests: MeshLab under Xvfb with no window manager, so the main window
+# is given the keyboard focus first. Usage (DISPLAY set): gui-open-filter.sh "Tree Mesh from Point Cloud"
 # Prints where the dialog's buttons are: "APPLY_X APPLY_Y CLOSE_X CLOSE_Y".
 set -euo pipefail
 filter=${1:?usage: gui-open-filter.sh FILTER_NAME}
-case $filter in
-  "Tree Mesh from Point Cloud") row=686 ;;
-  "Tree Skeleton (CPC)") row=711 ;;
-  *) echo "gui-open-filter: unknown filter '$filter'" >&2; exit 2 ;;
-esac
-for i in $(seq 60); do xdotool search --onlyvisible --name "MeshLab 2020" >/dev/null 2>&1 && break; sleep 0.5; done
+main=""
+for i in $(seq 60); do
+  main=$(xdotool search --onlyvisible --name "MeshLab 2020" 2>/dev/null | head -n 1) || true
+  [ -n "$main" ] && break; sleep 0.5
+done
+[ -n "$main" ] || { echo "gui-open-filter: no MeshLab window" >&2; exit 1; }
 sleep 3                                        # let it finish loading the layer
 pattern=$(printf '%s' "$filter" | sed 's/[][().*^$+?{}|\\]/\\&/g')
-# On a loaded machine a menu can open later than the next click: then the menus are closed with
-# Escape and the clicks tried again, three times in all.
+# On a loaded machine the search can open later than the typing starts: then it is closed with
+# Escape and tried again, three times in all.
 for attempt in 1 2 3; do
-  xdotool mousemove 120 10 click 1; sleep $attempt      # Filters
-  xdotool mousemove 155 386 click 1; sleep $attempt     # Point Set
-  xdotool mousemove 628 "$row" click 1
+  eval "$(xdotool getwindowgeometry --shell "$main")"   # X Y WIDTH HEIGHT
+  xdotool mousemove $((X + WIDTH / 2)) $((Y + HEIGHT / 2))
+  xdotool windowfocus --sync "$main"
+  xdotool key ctrl+f; sleep "$attempt"
+  xdotool type --delay 40 "$filter"; sleep "$attempt"
+  xdotool key Down; sleep 0.3; xdotool key Return
   for i in $(seq 20); do
     dialog=$(xdotool search --onlyvisible --name "^$pattern\$" 2>/dev/null | head -n 1) || true
     if [ -n "$dialog" ]; then

@@ -3,8 +3,8 @@
 # "Tree Mesh from Point Cloud" on the bundled rTwig cloud, and MeshLab after applying it.
 # Usage: plugins/meshlab/screenshot.sh PREFIX OUT_DIR
 #   PREFIX: a private MeshLab made by plugins/meshlab/install.sh PREFIX
-# Needs xvfb, xdotool and imagemagick (Debian packages). The clicks are at the places of MeshLab
-# 2020.09's menus in a 1280x1024 screen (gui-open-filter.sh checks that the dialog really opened).
+# Needs xvfb, xdotool and imagemagick (Debian packages). The dialog is opened by its name through
+# MeshLab's filter search (gui-open-filter.sh), and its buttons found from its window's geometry.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 prefix=${1:?usage: screenshot.sh PREFIX OUT_DIR}

@@ -94,6 +94,11 @@ TEST(SkeletonIo, BadFilesAndExtensions) {
   EXPECT_THROW(io::read_skeleton(dir.path("bad.json")), InputError);
   std::ofstream(dir.path("broken.json")) << "{\"nodes\": [";
   EXPECT_THROW(io::read_skeleton(dir.path("broken.json")), InputError);
+  // A number too large for any type (found by the fuzzer; nlohmann throws out_of_range, not parse_error).
+  std::ofstream(dir.path("huge.json")) << "{\"nodes\": [{\"position\": [1" << std::string(400, '0') << "e99999, 0, 0]}]}";
+  EXPECT_THROW(io::read_skeleton(dir.path("huge.json")), InputError);
+  std::ofstream(dir.path("huge_int.json")) << "{\"nodes\": [], \"edges\": [], \"root\": 3" << std::string(400, '3') << "}";
+  EXPECT_THROW(io::read_skeleton(dir.path("huge_int.json")), InputError);
 }
 
 // Skeleton PLY files are read by the same PLY reader as clouds: binary too, any property order, the
