@@ -1,4 +1,5 @@
 // End-to-end runs of the treeskel command on real files.
+#include "modeling/model_fixtures.h"
 #include "support/synthetic.h"
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
@@ -299,21 +300,30 @@ int temporaries_in(const std::string& dir) {
 }
 
 // A disk that refuses the data (here a file size limit, as a full disk or a quota does) fails the run
-// and leaves the old file as it was, in every mesh format.
+// and leaves the old file as it was, in every mesh format. The input is a small saved skeleton, so
+// that the test is quick (the sanitizer build runs it too).
 TEST(Cli, FullDiskFailsAndKeepsTheOldFile) {
   const test::TempDir dir;
-  const std::string input = quoted(test::data_file("tree_adtree1.xyz"));
+  io::write_skeleton(dir.path("y.json"), test::y_shape(0.05, 0.6, 20));
   for (const char* ext : {"obj", "ply", "stl", "glb", "gltf"}) {
     const std::string out = dir.path(std::string("m.") + ext);
     std::ofstream(out) << "old";
-    // ulimit -f counts 512-byte blocks in dash: 200 KB, less than any of these meshes.
-    const Result r = run("model " + input + " -o " + quoted(out) + " -q", dir.root(), "ulimit -f 400;");
+    // ulimit -f counts 512-byte blocks in dash: 4 KB, less than any of these meshes.
+    const Result r = run("model y.json -o " + quoted(out) + " -q", dir.root(), "ulimit -f 8;");
     EXPECT_EQ(r.code, 1) << ext << ": " << r.out;
     EXPECT_NE(r.out.find("writing failed"), std::string::npos) << r.out;
     EXPECT_EQ(r.out.find(".treeskel-"), std::string::npos) << "the message names a temporary file: " << r.out;
     EXPECT_EQ(text_of(out), "old") << ext;
     EXPECT_EQ(temporaries_in(dir.root()), 0) << ext;
     EXPECT_FALSE(fs::exists(dir.path("m.bin"))) << ext;
+    // Without the limit the same run writes the file.
+    EXPECT_EQ(run("model y.json -o " + quoted(out) + " -q", dir.root()).code, 0) << ext;
+    std::uintmax_t written = 0;  // the file and, for .gltf, its .bin
+    for (const auto& e : fs::directory_iterator(dir.root()))
+      if (e.path().stem() == "m" || e.path().stem() == "m_0") written += e.file_size();
+    EXPECT_GT(written, 4096u) << ext;
+    for (const auto& e : fs::directory_iterator(dir.root()))
+      if (e.path().filename() != "y.json") fs::remove(e.path());
   }
 }
 
