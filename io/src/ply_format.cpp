@@ -250,7 +250,14 @@ void read_ply_body(std::string_view data, const PlyHeader& header, const std::ve
     if (e.properties.empty()) continue;
     const bool fixed = std::none_of(e.properties.begin(), e.properties.end(), [](const PlyProperty& p) { return p.list; });
     if (fixed && !wanted[ei]) {
-      at += static_cast<std::size_t>(e.count * least_row_bytes(e, header.format));  // checked by the header
+      // The header check bounds each count, but list rows before this element may have taken more
+      // than their least size: check what is left.
+      const std::uint64_t bytes = e.count * least_row_bytes(e, header.format);
+      if (data.size() - at < bytes)
+        throw InputError(name + ": truncated: the " + plural(e.count, e.name) + " elements need " +
+                         plural(bytes, "bytes") + " from byte " + std::to_string(at) + " but only " +
+                         std::to_string(data.size() - at) + " follow");
+      at += static_cast<std::size_t>(bytes);
       continue;
     }
     for (std::uint64_t k = 0; k < e.count; ++k) {

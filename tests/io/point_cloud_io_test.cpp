@@ -266,6 +266,19 @@ TEST(BadInput, ElementCountsAreCheckedAgainstTheFile) {
   expect_error(file("huge_ascii.ply", "ply\nformat ascii 1.0\nelement vertex 18446744073709551615\n" + xyz + "0 0 0\n"),
                {"declares 18446744073709551615 vertex", "only 6 bytes"});
   // A list property's length cannot run past the file either.
+  // A list row longer than its least size, then an element that is skipped: the skip is checked
+  // against what is left (found by the fuzzer: it read past the end).
+  {
+    std::string b = "ply\nformat binary_little_endian 1.0\nelement vertex 1\n" + xyz.substr(0, xyz.find("end_header")) +
+                    "element face 1\nproperty list uchar int vertex_indices\nelement junk 2\nproperty int a\nend_header\n";
+    const float v[3] = {0, 0, 0};
+    b.append(reinterpret_cast<const char*>(v), sizeof v);
+    b += '\x03';
+    const std::int32_t ids[3] = {0, 0, 0};
+    b.append(reinterpret_cast<const char*>(ids), sizeof ids);  // 13 bytes where the header check counts 1
+    b.append(4, '\0');                                           // junk needs 8 bytes: 4 are left
+    expect_error(file("list_then_junk.ply", b), {"truncated", "2 junk elements need 8 bytes"});
+  }
   expect_error(file("list2.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
                                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                                      "end_header\n1 2 3\n1e300 0\n"),
