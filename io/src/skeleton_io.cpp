@@ -61,6 +61,18 @@ void write_obj(std::ostream& out, const Skeleton& s) {
 
 namespace detail {
 
+namespace {
+
+/// A node index in a JSON skeleton: a whole number not below zero. nlohmann's get<size_t> of a
+/// fraction or a negative number is an out-of-range conversion, so those are refused first.
+std::size_t node_index(const nlohmann::json& v, const std::string& name, const std::string& what) {
+  if (!v.is_number_unsigned())
+    throw InputError(name + ": " + what + " must be a node index (a whole number not below 0), not " + v.dump());
+  return v.get<std::size_t>();
+}
+
+}  // namespace
+
 Skeleton read_skeleton_json(std::string_view data, const std::string& name) {
   nlohmann::json j;
   try {
@@ -78,12 +90,12 @@ Skeleton read_skeleton_json(std::string_view data, const std::string& name) {
       add_node(s, n);
     }
     for (const auto& e : j.at("edges")) {
-      const auto a = e.at(0).get<std::size_t>(), b = e.at(1).get<std::size_t>();
+      const auto a = node_index(e.at(0), name, "an edge's end"), b = node_index(e.at(1), name, "an edge's end");
       if (a >= s.node_count() || b >= s.node_count())
         throw InputError(name + ": edge " + std::to_string(a) + "-" + std::to_string(b) + " names a node that does not exist");
       boost::add_edge(a, b, s.graph);
     }
-    s.root = j.value("root", std::size_t{0});
+    s.root = j.contains("root") ? node_index(j["root"], name, "the root") : 0;
   } catch (const nlohmann::json::exception& e) {
     throw InputError(name + ": not a treeskel skeleton: " + e.what());
   }

@@ -99,6 +99,15 @@ TEST(SkeletonIo, BadFilesAndExtensions) {
   EXPECT_THROW(io::read_skeleton(dir.path("huge.json")), InputError);
   std::ofstream(dir.path("huge_int.json")) << "{\"nodes\": [], \"edges\": [], \"root\": 3" << std::string(400, '3') << "}";
   EXPECT_THROW(io::read_skeleton(dir.path("huge_int.json")), InputError);
+  // Indices that are fractions, negative or not numbers (found by the fuzzer: nlohmann's conversion of
+  // -5.3 to size_t is undefined behaviour).
+  for (const char* index : {"-5.3", "0.5", "-1", "\"0\"", "true", "1e3"}) {
+    std::ofstream(dir.path("index.json")) << "{\"nodes\": [{\"position\": [0,0,0]}, {\"position\": [0,0,1]}], \"edges\": [[0, "
+                                          << index << "]]}";
+    EXPECT_THROW(io::read_skeleton(dir.path("index.json")), InputError) << index;
+    std::ofstream(dir.path("root.json")) << "{\"nodes\": [{\"position\": [0,0,0]}], \"edges\": [], \"root\": " << index << "}";
+    EXPECT_THROW(io::read_skeleton(dir.path("root.json")), InputError) << index;
+  }
 }
 
 // Skeleton PLY files are read by the same PLY reader as clouds: binary too, any property order, the
