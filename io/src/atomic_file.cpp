@@ -83,19 +83,21 @@ std::size_t remove_stale_temporaries(const fs::path& dir) {
   return removed;
 }
 
+fs::path folder_of(const fs::path& path) { return path.has_parent_path() ? path.parent_path() : fs::path("."); }
+
 fs::path write_destination(const fs::path& target) {
   std::error_code ec;
   if (!fs::is_symlink(target, ec)) return target;
   fs::path to = fs::read_symlink(target, ec);
   if (ec) return target;
-  if (to.is_relative()) to = (target.has_parent_path() ? target.parent_path() : fs::path(".")) / to;
+  if (to.is_relative()) to = folder_of(target) / to;
   return write_destination(to.lexically_normal());
 }
 
 void write_atomically(const fs::path& requested, const std::function<void(std::ostream&)>& body) {
   static std::atomic<unsigned> counter{0};
   const fs::path target = write_destination(requested);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const fs::path dir = folder_of(target);
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) throw Error(requested.string() + ": cannot write: folder " + dir.string() + " does not exist");
   if (fs::is_directory(target, ec)) throw Error(requested.string() + ": cannot write: it is a directory");

@@ -312,7 +312,7 @@ MeshPlacement write_mesh(const fs::path& path, const modeling::TreeMesh& mesh, c
   if (gltf)
     files[main_name] = with_root_translation(files[main_name], ext == "glb",
                                              frame.local ? Eigen::Vector3d::Zero() : Eigen::Vector3d(rotation * frame.offset), path);
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  const fs::path dir = folder_of(path);
   for (const auto& [name, data] : files)
     if (name != main_name)
       write_atomically(dir / fs::path(name).filename(), [&](std::ostream& out) { out.write(data.data(), std::streamsize(data.size())); });

@@ -100,7 +100,6 @@ void unregister_folder(const fs::path& folder) {
     if (g_used[i].load() && folder.string() == g_folders[i]) g_used[i].store(false);
 }
 
-fs::path folder_of(const fs::path& p) { return p.has_parent_path() ? p.parent_path() : fs::path("."); }
 
 }  // namespace
 
@@ -168,16 +167,12 @@ void OutputSet::commit() {
 }
 
 std::string OutputSet::explain(std::string message) const {
-  for (const auto& t : targets_) {
-    const std::string from = t.staged.string(), to = t.named.string();
+  auto replace_all = [&](const std::string& from, const std::string& to) {
     for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
       message.replace(at, from.size(), to);
-  }
-  for (const auto& f : folders_) {  // side files: name their folder
-    const std::string from = f.string(), to = folder_of(f).string();
-    for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at + to.size()))
-      message.replace(at, from.size(), to);
-  }
+  };
+  for (const auto& t : targets_) replace_all(t.staged.string(), t.named.string());
+  for (const auto& f : folders_) replace_all(f.string(), folder_of(f).string());  // side files: their folder
   return message;
 }
 

@@ -16,13 +16,6 @@ namespace treeskel::io::detail {
 
 namespace {
 
-bool host_is_little() {
-  const std::uint16_t one = 1;
-  unsigned char c;
-  std::memcpy(&c, &one, 1);
-  return c == 1;
-}
-
 /// Indices of the properties the cloud uses in the vertex element (-1 = absent).
 struct VertexLayout {
   int at[9];  // x y z nx ny nz red green blue

@@ -45,13 +45,6 @@ std::vector<std::string_view> words_of(std::string_view line) {
   return words;
 }
 
-bool host_is_little() {
-  const std::uint16_t one = 1;
-  unsigned char c;
-  std::memcpy(&c, &one, 1);
-  return c == 1;
-}
-
 double read_binary(const char* p, PlyType t, bool swap) {
   unsigned char b[8];
   const std::size_t n = size_of(t);
@@ -81,6 +74,13 @@ std::uint64_t least_row_bytes(const PlyElement& e, PlyFormat format) {
 std::string plural(std::uint64_t n, const std::string& what) { return std::to_string(n) + " " + what; }
 
 }  // namespace
+
+bool host_is_little() {
+  const std::uint16_t one = 1;
+  unsigned char c;
+  std::memcpy(&c, &one, 1);
+  return c == 1;
+}
 
 std::size_t size_of(PlyType t) {
   switch (t) {

@@ -20,6 +20,9 @@ enum class PlyFormat { ascii, little, big };
 
 std::size_t size_of(PlyType type);
 
+/// True on a little-endian host (binary PLY files name their byte order).
+bool host_is_little();
+
 struct PlyProperty {
   std::string name;
   PlyType type = PlyType::float32;

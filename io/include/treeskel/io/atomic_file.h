@@ -31,6 +31,9 @@ std::string temporary_prefix();
 /// Returns how many were removed.
 std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
 
+/// The folder `path` is in ("." for a bare file name).
+std::filesystem::path folder_of(const std::filesystem::path& path);
+
 /// Where writing `target` really goes: the file a symbolic link points to, else `target`.
 std::filesystem::path write_destination(const std::filesystem::path& target);
 
