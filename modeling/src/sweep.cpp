@@ -5,6 +5,8 @@
 #include "treeskel/geometry.h"
 #include "treeskel/modeling/chains.h"
 #include "mesh_union.h"
+#include "skeleton_parts.h"
+#include "tube.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
@@ -27,7 +29,16 @@ namespace treeskel::modeling {
 namespace {
 
 using Eigen::Vector3d;
-constexpr double kPi = 3.14159265358979323846;
+using detail::compatible;
+using detail::path_of;
+using detail::piece_of;
+using detail::relocate_narrow_branches;
+using detail::subtree;
+using detail::make_polyline;
+using detail::Polyline;
+using detail::reach_beyond;
+using detail::Ring;
+using detail::ring_at;
 constexpr int kMaxJunctionIterations = 80;
 /// A chain longer than this many radii between its end rings has room for its tube whatever way it
 /// turns (the rings laid along it are checked one against the next).
@@ -36,120 +47,6 @@ constexpr double kRoomyChain = 4.0;
 /// the longest edge (in weld distances) such a collapse may remove.
 constexpr int kSliverRounds = 4;
 constexpr double kSliverEdges = 1000.0;
-
-/// Circumradius factor that gives a regular n-gon the area of the circle it stands for.
-double area_factor(int sides) {
-  const double n = sides;
-  return std::sqrt(2.0 * kPi / (n * std::sin(2.0 * kPi / n)));
-}
-
-/// A chain's polyline with its arc length and a rotation-minimizing frame at every point.
-struct Polyline {
-  std::vector<Vector3d> p, t, u;  // position, tangent (travel direction), frame normal
-  std::vector<double> r, s;       // radius, arc length from the start
-  double length() const { return s.back(); }
-};
-
-/// A ring of the sweep: a regular polygon across the travel direction.
-struct Ring {
-  Vector3d centre, normal, u;
-  double radius = 0.0;  // vertex radius (area-preserving)
-  int sides = 0;
-  Vector3d vertex(int k) const {
-    const double a = 2.0 * kPi * k / sides;
-    const Vector3d w = normal.cross(u);
-    return centre + radius * (std::cos(a) * u + std::sin(a) * w);
-  }
-};
-
-Vector3d transport(const Vector3d& u, const Vector3d& from, const Vector3d& to) {
-  const Vector3d v = Eigen::Quaterniond::FromTwoVectors(from, to) * u;
-  const Vector3d ortho = v - v.dot(to) * to;
-  return ortho.norm() > 1e-12 ? Vector3d(ortho.normalized()) : Vector3d(to.unitOrthogonal());
-}
-
-Polyline make_polyline(const std::vector<Vector3d>& points, const std::vector<double>& radii, double eps) {
-  Polyline pl;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const bool last = i + 1 == points.size();
-    if (!pl.p.empty() && (points[i] - pl.p.back()).norm() <= eps) {
-      if (last && pl.p.size() > 1) {  // keep the true end
-        pl.p.back() = points[i];
-        pl.r.back() = radii[i];
-      }
-      continue;
-    }
-    pl.p.push_back(points[i]);
-    pl.r.push_back(radii[i]);
-  }
-  // A polyline that doubles back on itself would give a tube through itself at any radius: points
-  // where it turns by more than 120 degrees are dropped (never the ends).
-  for (bool changed = true; changed && pl.p.size() > 2;) {
-    changed = false;
-    for (std::size_t i = 1; i + 1 < pl.p.size(); ++i) {
-      const Vector3d in = pl.p[i] - pl.p[i - 1], out = pl.p[i + 1] - pl.p[i];
-      if (in.dot(out) < -0.5 * in.norm() * out.norm()) {
-        pl.p.erase(pl.p.begin() + static_cast<std::ptrdiff_t>(i));
-        pl.r.erase(pl.r.begin() + static_cast<std::ptrdiff_t>(i));
-        changed = true;
-        break;
-      }
-    }
-  }
-  const std::size_t n = pl.p.size();
-  pl.s.assign(n, 0.0);
-  for (std::size_t i = 1; i < n; ++i) pl.s[i] = pl.s[i - 1] + (pl.p[i] - pl.p[i - 1]).norm();
-  if (n < 2) return pl;
-  pl.t.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vector3d in = i > 0 ? Vector3d((pl.p[i] - pl.p[i - 1]).normalized()) : Vector3d::Zero();
-    const Vector3d out = i + 1 < n ? Vector3d((pl.p[i + 1] - pl.p[i]).normalized()) : Vector3d::Zero();
-    const Vector3d sum = in + out;
-    pl.t[i] = sum.norm() > 1e-9 ? Vector3d(sum.normalized()) : (out.isZero() ? in : out);
-  }
-  pl.u.resize(n);
-  pl.u[0] = pl.t[0].unitOrthogonal();
-  for (std::size_t i = 1; i < n; ++i) pl.u[i] = transport(pl.u[i - 1], pl.t[i - 1], pl.t[i]);
-  return pl;
-}
-
-/// The ring at arc length `s` (clamped to the polyline), `sides` sides, radii times `scale`.
-Ring ring_at(const Polyline& pl, double s, int sides) {
-  const std::size_t n = pl.p.size();
-  s = std::clamp(s, 0.0, pl.length());
-  std::size_t i = static_cast<std::size_t>(std::upper_bound(pl.s.begin(), pl.s.end(), s) - pl.s.begin());
-  i = i == 0 ? 0 : i - 1;
-  if (i + 1 >= n) i = n - 2;
-  Ring ring;
-  ring.sides = sides;
-  const double len = pl.s[i + 1] - pl.s[i];
-  const double f = len > 0.0 ? (s - pl.s[i]) / len : 0.0;
-  ring.centre = (1.0 - f) * pl.p[i] + f * pl.p[i + 1];
-  const double radius = (1.0 - f) * pl.r[i] + f * pl.r[i + 1];
-  ring.radius = radius * area_factor(sides);
-  if (f <= 1e-12) {
-    ring.normal = pl.t[i];
-    ring.u = pl.u[i];
-  } else if (f >= 1.0 - 1e-12) {
-    ring.normal = pl.t[i + 1];
-    ring.u = pl.u[i + 1];
-  } else {
-    ring.normal = (pl.p[i + 1] - pl.p[i]).normalized();
-    ring.u = transport(pl.u[i], pl.t[i], ring.normal);
-  }
-  return ring;
-}
-
-/// Largest signed distance of ring `b`'s circle from the plane of ring `a` (normal `na`).
-double reach_beyond(const Ring& a, const Vector3d& na, const Ring& b) {
-  const double c = std::clamp(na.dot(b.normal), -1.0, 1.0);
-  return (b.centre - a.centre).dot(na) + b.radius * std::sqrt(std::max(0.0, 1.0 - c * c));
-}
-
-/// Ring `b` lies wholly ahead of ring `a` and `a` wholly behind `b` (no crossing between them).
-bool compatible(const Ring& a, const Ring& b, double margin) {
-  return -reach_beyond(a, -a.normal, b) > margin && reach_beyond(b, b.normal, a) < -margin;
-}
 
 using UnionFind = DisjointSets<std::size_t>;
 
@@ -936,95 +833,6 @@ std::optional<double> clearing_factor(const Attempt& attempt, std::size_t x, std
   return f;
 }
 
-/// Nodes of the subtree hanging from `top` (with `top`).
-std::vector<NodeId> subtree(const std::vector<std::vector<NodeId>>& children, NodeId top) {
-  std::vector<NodeId> out{top};
-  for (std::size_t i = 0; i < out.size(); ++i)
-    for (NodeId c : children[out[i]]) out.push_back(c);
-  return out;
-}
-
-/// Distance from `p` to the polyline through `nodes`.
-double distance_to_polyline(const Skeleton& sk, const std::vector<NodeId>& nodes, const Vector3d& p) {
-  double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i + 1 < nodes.size(); ++i)
-    best = std::min(best, point_segment_distance(p, sk[nodes[i]].position, sk[nodes[i + 1]].position));
-  return best;
-}
-
-/// Unit direction from the first node of `nodes` to the point `arc` along them.
-Vector3d direction_along(const Skeleton& sk, const std::vector<NodeId>& nodes, double arc) {
-  double run = 0.0;
-  for (std::size_t i = 1; i < nodes.size(); ++i) {
-    run += (sk[nodes[i]].position - sk[nodes[i - 1]].position).norm();
-    if (run >= arc || i + 1 == nodes.size()) {
-      const Vector3d d = sk[nodes[i]].position - sk[nodes.front()].position;
-      return d.norm() > 0.0 ? Vector3d(d.normalized()) : Vector3d::Zero();
-    }
-  }
-  return Vector3d::Zero();
-}
-
-/// A branch that leaves a thicker one at a narrow angle runs inside it for a while, and a hull
-/// joining the two would be a long fin. Such a branch is re-attached where it comes out of the
-/// thicker one's surface: its hidden base is removed and it hangs from the thicker branch's node
-/// nearest to where it emerges. Returns the new id of every node (-1 for removed ones).
-std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angle, std::size_t& moved) {
-  const ChainTree t = build_chains(sk);
-  const std::size_t n = boost::num_vertices(sk.graph);
-  std::vector<bool> keep(n, true);
-  std::vector<std::pair<NodeId, NodeId>> removed_edges, added_edges;
-  std::vector<std::vector<std::size_t>> leaving(n);
-  enum Role : char { none_role, moved_role, host_role };
-  std::vector<Role> role(n, none_role);
-  for (std::size_t c = 0; c < t.chains.size(); ++c) leaving[t.chains[c].nodes.front()].push_back(c);
-  for (NodeId v = 0; v < n; ++v) {
-    if (leaving[v].size() < 2) continue;
-    // Arms from the fork outward: its chains, and the chain it ends, reversed.
-    std::vector<std::vector<NodeId>> arms;
-    for (std::size_t c : leaving[v]) arms.push_back(t.chains[c].nodes);
-    const std::size_t children = arms.size();
-    if (t.chain_of[v] >= 0) {
-      const auto& in = t.chains[static_cast<std::size_t>(t.chain_of[v])].nodes;
-      arms.emplace_back(in.rbegin(), in.rend());
-    }
-    auto radius = [&](const std::vector<NodeId>& arm) { return sk[arm[1]].radius; };
-    for (std::size_t i = 0; i < children; ++i) {
-      const auto& twig = arms[i];
-      if (!keep[twig[1]] || role[twig[1]] == host_role) continue;
-      for (std::size_t j = 0; j < arms.size(); ++j) {
-        const auto& host = arms[j];
-        if (j == i || radius(host) < radius(twig) || role[host[1]] == moved_role) continue;
-        const double big = radius(host);
-        const Vector3d a = direction_along(sk, twig, 2.0 * big), b = direction_along(sk, host, 2.0 * big);
-        if (a.isZero() || b.isZero() || std::acos(std::clamp(a.dot(b), -1.0, 1.0)) >= min_angle) continue;
-        // Where the twig comes out of the host's surface.
-        std::size_t m = 1;
-        while (m < twig.size() && distance_to_polyline(sk, host, sk[twig[m]].position) <= big + sk[twig[m]].radius) ++m;
-        if (m >= twig.size() - 1 && t.children[twig.back()].empty()) break;  // a twig hidden in its host
-        if (m >= twig.size()) break;
-        const Vector3d q = sk[twig[m]].position;
-        std::size_t k = 1;
-        for (std::size_t h = 1; h < host.size(); ++h)
-          if ((sk[host[h]].position - q).squaredNorm() < (sk[host[k]].position - q).squaredNorm()) k = h;
-        if (!keep[host[k]]) break;
-        removed_edges.emplace_back(twig[m - 1], twig[m]);
-        added_edges.emplace_back(host[k], twig[m]);
-        for (std::size_t h = 1; h < m; ++h) keep[twig[h]] = false;
-        // A moved branch hosts no other, and a host is not moved: no cycle can form.
-        role[twig[1]] = moved_role;
-        role[twig[m]] = moved_role;
-        role[host[1]] = host_role;
-        ++moved;
-        break;
-      }
-    }
-  }
-  for (const auto& [a, b] : removed_edges) boost::remove_edge(a, b, sk.graph);
-  for (const auto& [a, b] : added_edges) boost::add_edge(a, b, sk.graph);
-  return compact_nodes(sk, keep);
-}
-
 /// Sweeps what of `skeleton` fits together into one valid mesh. Subtrees that a join or a crossing
 /// left no room for are not swept here: their nodes go to `detached`, for `sweep_mesh` to sweep
 /// apart and unite with this mesh.
@@ -1192,50 +1000,6 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, S
   return std::move(*best);
 }
 
-/// The branch of the original skeleton that holds `top`, from the fork it leaves, with all it
-/// carries, as a skeleton of its own. The fork is its root and takes the branch's first radius, so
-/// that the piece starts inside the parent it hangs from (a branch re-attached where it left a
-/// thicker one gets back its hidden base here).
-Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top) {
-  const auto& chain = tree.chains[static_cast<std::size_t>(tree.chain_of[top])].nodes;
-  Skeleton piece;
-  piece.offset = skeleton.offset;
-  std::map<NodeId, NodeId> id;
-  auto add = [&](NodeId v, double radius) {
-    SkeletonNode node;
-    node.position = skeleton[v].position;
-    node.radius = radius;
-    id[v] = add_node(piece, node);
-  };
-  add(chain.front(), skeleton[chain[1]].radius);
-  piece.root = id[chain.front()];
-  // The fork may lie outside its join's hull (between rings set far apart at a narrow fork): the
-  // piece starts a little further back, on the parent's axis, which the parent's tube holds.
-  const NodeId fork = chain.front();
-  // Toward the parent, or at a root with several branches, toward the thickest other one.
-  NodeId toward = tree.parent[fork];
-  if (toward == fork)
-    for (NodeId c : tree.children[fork])
-      if (c != chain[1] && (toward == fork || skeleton[c].radius > skeleton[toward].radius)) toward = c;
-  if (toward != fork) {
-    const Vector3d back = skeleton[toward].position - skeleton[fork].position;
-    const double reach = std::min(back.norm(), skeleton[fork].radius);
-    if (reach > 0.0) {
-      SkeletonNode node;
-      node.position = skeleton[fork].position + back.normalized() * reach;
-      node.radius = skeleton[chain[1]].radius;
-      const NodeId stub = add_node(piece, node);
-      boost::add_edge(stub, piece.root, piece.graph);
-      piece.root = stub;
-    }
-  }
-  for (NodeId v : subtree(tree.children, chain[1])) {
-    add(v, skeleton[v].radius);
-    boost::add_edge(id[tree.parent[v]], id[v], piece.graph);
-  }
-  return piece;
-}
-
 void add_counts(SweepStats& to, const SweepStats& from) {
   to.branches += from.branches;
   to.junctions += from.junctions;
@@ -1255,21 +1019,6 @@ void add_counts(SweepStats& to, const SweepStats& from) {
   to.pieces_failed += from.pieces_failed;
   to.unions += from.unions;
   to.welded_edges += from.welded_edges;
-}
-
-/// The path through `nodes` of `sk` as a skeleton rooted at its first node.
-Skeleton path_of(const Skeleton& sk, const std::vector<NodeId>& nodes) {
-  Skeleton path;
-  path.offset = sk.offset;
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    SkeletonNode node;
-    node.position = sk[nodes[i]].position;
-    node.radius = sk[nodes[i]].radius;
-    add_node(path, node);
-    if (i > 0) boost::add_edge(i - 1, i, path.graph);
-  }
-  path.root = 0;
-  return path;
 }
 
 /// A copy of `mesh` (same vertex and face order) at the 32-bit floats its points become in the

@@ -1,0 +1,158 @@
+#include "skeleton_parts.h"
+
+#include "treeskel/geometry.h"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+namespace treeskel::modeling::detail {
+
+namespace {
+
+using Eigen::Vector3d;
+
+/// Distance from `p` to the polyline through `nodes`.
+double distance_to_polyline(const Skeleton& sk, const std::vector<NodeId>& nodes, const Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 1 < nodes.size(); ++i)
+    best = std::min(best, point_segment_distance(p, sk[nodes[i]].position, sk[nodes[i + 1]].position));
+  return best;
+}
+
+/// Unit direction from the first node of `nodes` to the point `arc` along them.
+Vector3d direction_along(const Skeleton& sk, const std::vector<NodeId>& nodes, double arc) {
+  double run = 0.0;
+  for (std::size_t i = 1; i < nodes.size(); ++i) {
+    run += (sk[nodes[i]].position - sk[nodes[i - 1]].position).norm();
+    if (run >= arc || i + 1 == nodes.size()) {
+      const Vector3d d = sk[nodes[i]].position - sk[nodes.front()].position;
+      return d.norm() > 0.0 ? Vector3d(d.normalized()) : Vector3d::Zero();
+    }
+  }
+  return Vector3d::Zero();
+}
+
+}  // namespace
+
+std::vector<NodeId> subtree(const std::vector<std::vector<NodeId>>& children, NodeId top) {
+  std::vector<NodeId> out{top};
+  for (std::size_t i = 0; i < out.size(); ++i)
+    for (NodeId c : children[out[i]]) out.push_back(c);
+  return out;
+}
+
+std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angle, std::size_t& moved) {
+  const ChainTree t = build_chains(sk);
+  const std::size_t n = boost::num_vertices(sk.graph);
+  std::vector<bool> keep(n, true);
+  std::vector<std::pair<NodeId, NodeId>> removed_edges, added_edges;
+  std::vector<std::vector<std::size_t>> leaving(n);
+  enum Role : char { none_role, moved_role, host_role };
+  std::vector<Role> role(n, none_role);
+  for (std::size_t c = 0; c < t.chains.size(); ++c) leaving[t.chains[c].nodes.front()].push_back(c);
+  for (NodeId v = 0; v < n; ++v) {
+    if (leaving[v].size() < 2) continue;
+    // Arms from the fork outward: its chains, and the chain it ends, reversed.
+    std::vector<std::vector<NodeId>> arms;
+    for (std::size_t c : leaving[v]) arms.push_back(t.chains[c].nodes);
+    const std::size_t children = arms.size();
+    if (t.chain_of[v] >= 0) {
+      const auto& in = t.chains[static_cast<std::size_t>(t.chain_of[v])].nodes;
+      arms.emplace_back(in.rbegin(), in.rend());
+    }
+    auto radius = [&](const std::vector<NodeId>& arm) { return sk[arm[1]].radius; };
+    for (std::size_t i = 0; i < children; ++i) {
+      const auto& twig = arms[i];
+      if (!keep[twig[1]] || role[twig[1]] == host_role) continue;
+      for (std::size_t j = 0; j < arms.size(); ++j) {
+        const auto& host = arms[j];
+        if (j == i || radius(host) < radius(twig) || role[host[1]] == moved_role) continue;
+        const double big = radius(host);
+        const Vector3d a = direction_along(sk, twig, 2.0 * big), b = direction_along(sk, host, 2.0 * big);
+        if (a.isZero() || b.isZero() || std::acos(std::clamp(a.dot(b), -1.0, 1.0)) >= min_angle) continue;
+        // Where the twig comes out of the host's surface.
+        std::size_t m = 1;
+        while (m < twig.size() && distance_to_polyline(sk, host, sk[twig[m]].position) <= big + sk[twig[m]].radius) ++m;
+        if (m >= twig.size() - 1 && t.children[twig.back()].empty()) break;  // a twig hidden in its host
+        if (m >= twig.size()) break;
+        const Vector3d q = sk[twig[m]].position;
+        std::size_t k = 1;
+        for (std::size_t h = 1; h < host.size(); ++h)
+          if ((sk[host[h]].position - q).squaredNorm() < (sk[host[k]].position - q).squaredNorm()) k = h;
+        if (!keep[host[k]]) break;
+        removed_edges.emplace_back(twig[m - 1], twig[m]);
+        added_edges.emplace_back(host[k], twig[m]);
+        for (std::size_t h = 1; h < m; ++h) keep[twig[h]] = false;
+        // A moved branch hosts no other, and a host is not moved: no cycle can form.
+        role[twig[1]] = moved_role;
+        role[twig[m]] = moved_role;
+        role[host[1]] = host_role;
+        ++moved;
+        break;
+      }
+    }
+  }
+  for (const auto& [a, b] : removed_edges) boost::remove_edge(a, b, sk.graph);
+  for (const auto& [a, b] : added_edges) boost::add_edge(a, b, sk.graph);
+  return compact_nodes(sk, keep);
+}
+
+Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top) {
+  const auto& chain = tree.chains[static_cast<std::size_t>(tree.chain_of[top])].nodes;
+  Skeleton piece;
+  piece.offset = skeleton.offset;
+  std::map<NodeId, NodeId> id;
+  auto add = [&](NodeId v, double radius) {
+    SkeletonNode node;
+    node.position = skeleton[v].position;
+    node.radius = radius;
+    id[v] = add_node(piece, node);
+  };
+  add(chain.front(), skeleton[chain[1]].radius);
+  piece.root = id[chain.front()];
+  // The fork may lie outside its join's hull (between rings set far apart at a narrow fork): the
+  // piece starts a little further back, on the parent's axis, which the parent's tube holds.
+  const NodeId fork = chain.front();
+  // Toward the parent, or at a root with several branches, toward the thickest other one.
+  NodeId toward = tree.parent[fork];
+  if (toward == fork)
+    for (NodeId c : tree.children[fork])
+      if (c != chain[1] && (toward == fork || skeleton[c].radius > skeleton[toward].radius)) toward = c;
+  if (toward != fork) {
+    const Vector3d back = skeleton[toward].position - skeleton[fork].position;
+    const double reach = std::min(back.norm(), skeleton[fork].radius);
+    if (reach > 0.0) {
+      SkeletonNode node;
+      node.position = skeleton[fork].position + back.normalized() * reach;
+      node.radius = skeleton[chain[1]].radius;
+      const NodeId stub = add_node(piece, node);
+      boost::add_edge(stub, piece.root, piece.graph);
+      piece.root = stub;
+    }
+  }
+  for (NodeId v : subtree(tree.children, chain[1])) {
+    add(v, skeleton[v].radius);
+    boost::add_edge(id[tree.parent[v]], id[v], piece.graph);
+  }
+  return piece;
+}
+
+Skeleton path_of(const Skeleton& sk, const std::vector<NodeId>& nodes) {
+  Skeleton path;
+  path.offset = sk.offset;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    SkeletonNode node;
+    node.position = sk[nodes[i]].position;
+    node.radius = sk[nodes[i]].radius;
+    add_node(path, node);
+    if (i > 0) boost::add_edge(i - 1, i, path.graph);
+  }
+  path.root = 0;
+  return path;
+}
+
+}  // namespace treeskel::modeling::detail

@@ -1,0 +1,33 @@
+// Parts of a skeleton the sweep handles on their own: the branches re-attached where they leave a
+// thicker one at a narrow angle, and the pieces (a branch with all it carries, or a path) that are
+// swept apart and united with the tree.
+#pragma once
+
+#include "treeskel/modeling/chains.h"
+#include "treeskel/skeleton.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace treeskel::modeling::detail {
+
+/// Nodes of the subtree hanging from `top` (with `top`).
+std::vector<NodeId> subtree(const std::vector<std::vector<NodeId>>& children, NodeId top);
+
+/// A branch that leaves a thicker one at less than `min_angle` (radians) runs inside it for a while,
+/// and a hull joining the two would be a long fin. Such a branch is re-attached where it comes out of
+/// the thicker one's surface: its hidden base is removed and it hangs from the thicker branch's node
+/// nearest to where it emerges. `moved` counts them. Returns the new id of every node (-1 for removed
+/// ones).
+std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angle, std::size_t& moved);
+
+/// The branch of `skeleton` that holds `top`, from the fork it leaves, with all it carries, as a
+/// skeleton of its own. The fork is its root and takes the branch's first radius, so that the piece
+/// starts inside the parent it hangs from (a branch re-attached where it left a thicker one gets back
+/// its hidden base here).
+Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top);
+
+/// The path through `nodes` of `sk` as a skeleton rooted at its first node.
+Skeleton path_of(const Skeleton& sk, const std::vector<NodeId>& nodes);
+
+}  // namespace treeskel::modeling::detail

@@ -1,0 +1,102 @@
+#include "tube.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+
+namespace treeskel::modeling::detail {
+
+using Eigen::Vector3d;
+
+double area_factor(int sides) {
+  const double n = sides;
+  return std::sqrt(2.0 * kPi / (n * std::sin(2.0 * kPi / n)));
+}
+
+Vector3d transport(const Vector3d& u, const Vector3d& from, const Vector3d& to) {
+  const Vector3d v = Eigen::Quaterniond::FromTwoVectors(from, to) * u;
+  const Vector3d ortho = v - v.dot(to) * to;
+  return ortho.norm() > 1e-12 ? Vector3d(ortho.normalized()) : Vector3d(to.unitOrthogonal());
+}
+
+Polyline make_polyline(const std::vector<Vector3d>& points, const std::vector<double>& radii, double eps) {
+  Polyline pl;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const bool last = i + 1 == points.size();
+    if (!pl.p.empty() && (points[i] - pl.p.back()).norm() <= eps) {
+      if (last && pl.p.size() > 1) {  // keep the true end
+        pl.p.back() = points[i];
+        pl.r.back() = radii[i];
+      }
+      continue;
+    }
+    pl.p.push_back(points[i]);
+    pl.r.push_back(radii[i]);
+  }
+  // A polyline that doubles back on itself would give a tube through itself at any radius: points
+  // where it turns by more than 120 degrees are dropped (never the ends).
+  for (bool changed = true; changed && pl.p.size() > 2;) {
+    changed = false;
+    for (std::size_t i = 1; i + 1 < pl.p.size(); ++i) {
+      const Vector3d in = pl.p[i] - pl.p[i - 1], out = pl.p[i + 1] - pl.p[i];
+      if (in.dot(out) < -0.5 * in.norm() * out.norm()) {
+        pl.p.erase(pl.p.begin() + static_cast<std::ptrdiff_t>(i));
+        pl.r.erase(pl.r.begin() + static_cast<std::ptrdiff_t>(i));
+        changed = true;
+        break;
+      }
+    }
+  }
+  const std::size_t n = pl.p.size();
+  pl.s.assign(n, 0.0);
+  for (std::size_t i = 1; i < n; ++i) pl.s[i] = pl.s[i - 1] + (pl.p[i] - pl.p[i - 1]).norm();
+  if (n < 2) return pl;
+  pl.t.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vector3d in = i > 0 ? Vector3d((pl.p[i] - pl.p[i - 1]).normalized()) : Vector3d::Zero();
+    const Vector3d out = i + 1 < n ? Vector3d((pl.p[i + 1] - pl.p[i]).normalized()) : Vector3d::Zero();
+    const Vector3d sum = in + out;
+    pl.t[i] = sum.norm() > 1e-9 ? Vector3d(sum.normalized()) : (out.isZero() ? in : out);
+  }
+  pl.u.resize(n);
+  pl.u[0] = pl.t[0].unitOrthogonal();
+  for (std::size_t i = 1; i < n; ++i) pl.u[i] = transport(pl.u[i - 1], pl.t[i - 1], pl.t[i]);
+  return pl;
+}
+
+Ring ring_at(const Polyline& pl, double s, int sides) {
+  const std::size_t n = pl.p.size();
+  s = std::clamp(s, 0.0, pl.length());
+  std::size_t i = static_cast<std::size_t>(std::upper_bound(pl.s.begin(), pl.s.end(), s) - pl.s.begin());
+  i = i == 0 ? 0 : i - 1;
+  if (i + 1 >= n) i = n - 2;
+  Ring ring;
+  ring.sides = sides;
+  const double len = pl.s[i + 1] - pl.s[i];
+  const double f = len > 0.0 ? (s - pl.s[i]) / len : 0.0;
+  ring.centre = (1.0 - f) * pl.p[i] + f * pl.p[i + 1];
+  const double radius = (1.0 - f) * pl.r[i] + f * pl.r[i + 1];
+  ring.radius = radius * area_factor(sides);
+  if (f <= 1e-12) {
+    ring.normal = pl.t[i];
+    ring.u = pl.u[i];
+  } else if (f >= 1.0 - 1e-12) {
+    ring.normal = pl.t[i + 1];
+    ring.u = pl.u[i + 1];
+  } else {
+    ring.normal = (pl.p[i + 1] - pl.p[i]).normalized();
+    ring.u = transport(pl.u[i], pl.t[i], ring.normal);
+  }
+  return ring;
+}
+
+double reach_beyond(const Ring& a, const Vector3d& na, const Ring& b) {
+  const double c = std::clamp(na.dot(b.normal), -1.0, 1.0);
+  return (b.centre - a.centre).dot(na) + b.radius * std::sqrt(std::max(0.0, 1.0 - c * c));
+}
+
+bool compatible(const Ring& a, const Ring& b, double margin) {
+  return -reach_beyond(a, -a.normal, b) > margin && reach_beyond(b, b.normal, a) < -margin;
+}
+
+}  // namespace treeskel::modeling::detail

@@ -1,0 +1,84 @@
+// The parts of a skeleton the sweep handles on their own (modeling/src/skeleton_parts.h, private to
+// the library), alone.
+#include "../../modeling/src/skeleton_parts.h"
+#include "model_fixtures.h"
+
+#include <gtest/gtest.h>
+
+namespace treeskel::modeling::detail {
+namespace {
+
+// test::y_shape(r, half_angle, 20): nodes 0..20 the trunk (20 the fork), 21..40 one arm, 41..60 the other.
+
+TEST(SkeletonParts, SubtreeHoldsTheTopAndAllItCarries) {
+  const Skeleton s = test::y_shape(0.05, 0.6, 20);
+  const ChainTree tree = build_chains(s);
+  EXPECT_EQ(subtree(tree.children, 20).size(), 41u);
+  EXPECT_EQ(subtree(tree.children, 21).size(), 20u);
+  EXPECT_EQ(subtree(tree.children, s.root).size(), s.node_count());
+  EXPECT_EQ(subtree(tree.children, 40), std::vector<NodeId>{40});  // a tip
+}
+
+TEST(SkeletonParts, PathOfCopiesPositionsAndRadiiInOrder) {
+  const Skeleton s = test::y_shape(0.05, 0.6, 20);
+  const Skeleton path = path_of(s, {20, 21, 22, 23});
+  ASSERT_EQ(path.node_count(), 4u);
+  EXPECT_EQ(path.edge_count(), 3u);
+  EXPECT_EQ(path.root, 0u);
+  EXPECT_TRUE(is_tree(path.graph));
+  for (NodeId v = 0; v < 4; ++v) {
+    EXPECT_EQ(path[v].position, s[20 + v].position);
+    EXPECT_EQ(path[v].radius, s[20 + v].radius);
+  }
+}
+
+// A piece starts at the fork its branch leaves, with the branch's first radius there, and one fork
+// radius further back along the parent's axis (a narrow fork can lie outside its own join's hull;
+// the parent's tube holds that stub).
+TEST(SkeletonParts, PieceOfAnArmStartsBehindItsForkWithTheArmsRadius) {
+  const Skeleton s = test::y_shape(0.05, 0.6, 20);
+  const ChainTree tree = build_chains(s);
+  const Skeleton piece = piece_of(s, tree, 30);  // any node of the first arm
+  EXPECT_EQ(piece.node_count(), 22u);           // the stub, the fork and the arm's 20 nodes
+  EXPECT_TRUE(is_tree(piece.graph));
+  EXPECT_TRUE(piece[piece.root].position.isApprox(s[20].position - Eigen::Vector3d(0, 0, s[20].radius), 1e-12));
+  EXPECT_DOUBLE_EQ(piece[piece.root].radius, s[21].radius);
+  EXPECT_LT(piece[piece.root].radius, s[20].radius);
+  // The fork itself follows the stub, with the arm's radius too.
+  bool fork_found = false;
+  for (NodeId v = 0; v < piece.node_count(); ++v)
+    if (piece[v].position == s[20].position) {
+      fork_found = true;
+      EXPECT_DOUBLE_EQ(piece[v].radius, s[21].radius);
+      EXPECT_EQ(boost::degree(v, piece.graph), 2u);
+    }
+  EXPECT_TRUE(fork_found);
+}
+
+TEST(SkeletonParts, ANarrowBranchIsReattachedWhereItLeavesTheThickerOne) {
+  // One arm 0.1 rad (6 degrees) off the trunk's line, the other 0.6 rad: the narrow one runs inside
+  // the thicker continuation for a while.
+  Skeleton s = test::straight(1.0, 0.05, 20);
+  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
+  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);  // the thick continuation
+  const NodeId narrow = test::add_run(s, fork, Eigen::Vector3d(std::sin(0.1), 0, 1 + std::cos(0.1)), 0.01, 20);
+  (void)narrow;
+  const std::size_t before = s.node_count();
+  std::size_t moved = 0;
+  const std::vector<std::int64_t> id = relocate_narrow_branches(s, 0.7, moved);
+  EXPECT_EQ(moved, 1u);
+  EXPECT_LT(s.node_count(), before);  // its hidden base is gone
+  EXPECT_TRUE(is_tree(s.graph));
+  EXPECT_EQ(id.size(), before);
+  EXPECT_EQ(id[fork], static_cast<std::int64_t>(fork));  // the trunk keeps its ids
+  EXPECT_EQ(std::count(id.begin(), id.end(), -1), static_cast<std::ptrdiff_t>(before - s.node_count()));
+  // With the angle limit below the branch's angle nothing moves.
+  Skeleton wide = test::y_shape(0.05, 0.6, 20);
+  std::size_t none = 0;
+  const auto same = relocate_narrow_branches(wide, 0.3, none);
+  EXPECT_EQ(none, 0u);
+  for (std::size_t v = 0; v < same.size(); ++v) EXPECT_EQ(same[v], static_cast<std::int64_t>(v));
+}
+
+}  // namespace
+}  // namespace treeskel::modeling::detail

@@ -1,0 +1,92 @@
+// The sweep's tube geometry (modeling/src/tube.h, private to the library), alone.
+#include "../../modeling/src/tube.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+
+namespace treeskel::modeling::detail {
+namespace {
+
+using Eigen::Vector3d;
+
+// A regular n-gon of circumradius r * area_factor(n) has the area of the circle of radius r.
+TEST(Tube, AreaFactorKeepsTheCirclesArea) {
+  for (int n : {3, 4, 6, 12, 48}) {
+    const double R = area_factor(n);
+    EXPECT_NEAR(0.5 * n * R * R * std::sin(2.0 * kPi / n), kPi, 1e-12) << n;
+  }
+  EXPECT_GT(area_factor(3), area_factor(6));
+  EXPECT_NEAR(area_factor(1000), 1.0, 1e-5);
+}
+
+TEST(Tube, TransportKeepsTheFrameAcrossAndUnit) {
+  const Vector3d u(1, 0, 0), from(0, 0, 1);
+  for (const Vector3d& to : {Vector3d(0, 1, 1).normalized(), Vector3d(1, 0, 0), Vector3d(0, 0, -1)}) {
+    const Vector3d v = transport(u, from, to);
+    EXPECT_NEAR(v.norm(), 1.0, 1e-12);
+    EXPECT_NEAR(v.dot(to), 0.0, 1e-12);
+  }
+  // No turn, no change.
+  EXPECT_TRUE(transport(u, from, from).isApprox(u, 1e-12));
+}
+
+TEST(Tube, PolylineMergesRepeatsAndDropsFoldsButKeepsTheEnds) {
+  const std::vector<Vector3d> points{{0, 0, 0}, {0, 0, 1e-9}, {0, 0, 1}, {0, 0, 0.5}, {0, 0, 2}, {0, 0, 2 + 1e-9}};
+  const std::vector<double> radii{0.2, 0.2, 0.1, 0.1, 0.05, 0.04};
+  const Polyline pl = make_polyline(points, radii, 1e-6);
+  ASSERT_GE(pl.p.size(), 2u);
+  EXPECT_EQ(pl.p.front(), Vector3d(0, 0, 0));
+  EXPECT_EQ(pl.p.back(), Vector3d(0, 0, 2 + 1e-9));  // the true end, not the merged one
+  EXPECT_EQ(pl.r.back(), 0.04);
+  for (std::size_t i = 1; i < pl.p.size(); ++i) {
+    EXPECT_GT((pl.p[i] - pl.p[i - 1]).z(), 0.0) << "the polyline still folds back at " << i;
+    EXPECT_GT(pl.s[i], pl.s[i - 1]);
+  }
+  EXPECT_NEAR(pl.length(), 2.0, 1e-6);
+  for (std::size_t i = 0; i < pl.p.size(); ++i) {
+    EXPECT_NEAR(pl.t[i].norm(), 1.0, 1e-12);
+    EXPECT_NEAR(pl.u[i].dot(pl.t[i]), 0.0, 1e-12);
+  }
+}
+
+TEST(Tube, RingAtInterpolatesAndClamps) {
+  const Polyline pl = make_polyline({{0, 0, 0}, {0, 0, 1}, {1, 0, 1}}, {0.2, 0.1, 0.1}, 1e-9);
+  const Ring mid = ring_at(pl, 0.5, 8);
+  EXPECT_TRUE(mid.centre.isApprox(Vector3d(0, 0, 0.5), 1e-12));
+  EXPECT_NEAR(mid.radius, 0.15 * area_factor(8), 1e-12);
+  EXPECT_TRUE(mid.normal.isApprox(Vector3d(0, 0, 1), 1e-12));
+  for (int k = 0; k < 8; ++k) {
+    EXPECT_NEAR((mid.vertex(k) - mid.centre).norm(), mid.radius, 1e-12);
+    EXPECT_NEAR((mid.vertex(k) - mid.centre).dot(mid.normal), 0.0, 1e-12);
+  }
+  const Ring before = ring_at(pl, -3.0, 8), after = ring_at(pl, 99.0, 8);
+  EXPECT_TRUE(before.centre.isApprox(Vector3d(0, 0, 0)));
+  EXPECT_TRUE(after.centre.isApprox(Vector3d(1, 0, 1)));
+  EXPECT_TRUE(after.normal.isApprox(Vector3d(1, 0, 0), 1e-12));
+}
+
+TEST(Tube, CompatibleRingsLieAheadOfOneAnother) {
+  Ring a;
+  a.centre = {0, 0, 0};
+  a.normal = {0, 0, 1};
+  a.u = {1, 0, 0};
+  a.radius = 0.1;
+  a.sides = 8;
+  Ring b = a;
+  b.centre = {0, 0, 1};
+  EXPECT_TRUE(compatible(a, b, 0.01));
+  EXPECT_FALSE(compatible(b, a, 0.01));  // the wrong way round
+  // Tilted by 90 degrees just ahead: its circle reaches back across a's plane.
+  Ring tilted = b;
+  tilted.centre = {0, 0, 0.05};
+  tilted.normal = {1, 0, 0};
+  tilted.u = {0, 0, 1};
+  EXPECT_FALSE(compatible(a, tilted, 0.0));
+  EXPECT_NEAR(reach_beyond(a, -a.normal, tilted), 0.05, 1e-12);  // 0.1 - 0.05 behind a's plane
+}
+
+}  // namespace
+}  // namespace treeskel::modeling::detail
