@@ -1,4 +1,5 @@
 #include "model_fixtures.h"
+#include "support/bundled.h"
 #include "support/synthetic.h"
 #include "treeskel/error.h"
 #include "treeskel/eval/cylinders.h"
@@ -31,13 +32,7 @@ void expect_valid(const TreeMesh& mesh) {
   EXPECT_GT(c.volume, 0.0);
 }
 
-/// The skeleton of a bundled cloud, radii fitted.
-Skeleton bundled_skeleton(const char* name) {
-  const PointCloud cloud = io::read_point_cloud(test::data_file(name));
-  Skeleton s = extract_skeleton(cloud);
-  fit_radii(s, &cloud);
-  return s;
-}
+using test::bundled_skeleton;  // extracted once per ctest run (support/bundled.h)
 
 TEST(SweepMesh, StraightBranchIsAClosedCylinderOfTheRightVolume) {
   const Skeleton s = test::straight(4.0, 0.05, 40);
