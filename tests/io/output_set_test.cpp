@@ -96,21 +96,30 @@ TEST(OutputSet, ExplainNamesTheTargetNotTheStagedFile) {
   EXPECT_EQ(set.explain((staged.parent_path() / "m.bin").string()), (fs::path(dir.root()) / "m.bin").string());
 }
 
+/// Runs `body` in a forked child (which stages outputs and is then killed by a signal) and returns
+/// the child's wait status.
+template <class Body>
+int status_of_child(Body body) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    body();
+    ::_exit(0);
+  }
+  int status = 0;
+  if (child > 0) ::waitpid(child, &status, 0);
+  return status;
+}
+
 // SIGTERM (and SIGINT, SIGHUP) while outputs are staged leaves none of them, and still ends the process
 // by the signal.
 TEST(OutputSet, TerminationLeavesNothing) {
   const test::TempDir dir;
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
+  const int status = status_of_child([&] {
     io::OutputSet set;
     put(set.stage(dir.path("a.glb")), "staged");
     put(set.stage(dir.path("b.json")), "staged");
     ::raise(SIGTERM);
-    ::_exit(0);  // not reached
-  }
-  int status = 0;
-  ::waitpid(child, &status, 0);
+  });
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
   EXPECT_EQ(entries(dir.root()), 0u);
 }
@@ -118,15 +127,12 @@ TEST(OutputSet, TerminationLeavesNothing) {
 // A run killed outright (SIGKILL) leaves its staging folder; the next run in that folder removes it.
 TEST(OutputSet, RunsKilledOutrightAreCleanedUpLater) {
   const test::TempDir dir;
-  const pid_t child = ::fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
+  const int status = status_of_child([&] {
     io::OutputSet set;
     put(set.stage(dir.path("a.glb")), "staged");
     ::raise(SIGKILL);
-  }
-  int status = 0;
-  ::waitpid(child, &status, 0);
+  });
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
   ASSERT_EQ(entries(dir.root()), 1u);  // the dead run's staging folder
   fs::create_directory(dir.path(".treeskel-someone-else"));  // not ours: kept
   put(dir.path("b.json"), "x");
