@@ -21,6 +21,13 @@ void write_text(const std::string& path, const std::string& text) {
   out << text;
 }
 
+/// Writes `content` to `name` in `dir` and returns its path.
+std::string written(const TempDir& dir, const std::string& name, const std::string& content) {
+  const std::string p = dir.path(name);
+  write_text(p, content);
+  return p;
+}
+
 std::string read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
@@ -187,11 +194,7 @@ TEST(ReadLas, Version14PointFormat6) {
 
 TEST(BadInput, EachGetsAClearMessage) {
   const TempDir dir;
-  const auto file = [&](const std::string& name, const std::string& content) {
-    const std::string p = dir.path(name);
-    write_text(p, content);
-    return p;
-  };
+  const auto file = [&](const std::string& name, const std::string& content) { return written(dir, name, content); };
   expect_error(dir.path("missing.xyz"), {"no such file"});
   expect_error(file("empty.xyz", ""), {"empty"});
   expect_error(file("blank.xyz", "# only a comment\n\n"), {"no points"});
@@ -241,11 +244,7 @@ TEST(BadInput, EachGetsAClearMessage) {
 // of an out-of-range number.
 TEST(BadInput, ElementCountsAreCheckedAgainstTheFile) {
   const TempDir dir;
-  const auto file = [&](const std::string& name, const std::string& content) {
-    const std::string p = dir.path(name);
-    write_text(p, content);
-    return p;
-  };
+  const auto file = [&](const std::string& name, const std::string& content) { return written(dir, name, content); };
   const std::string xyz = "property float x\nproperty float y\nproperty float z\nend_header\n";
   const auto ascii = [&](const std::string& junk) {
     return "ply\nformat ascii 1.0\nelement junk " + junk + "\nelement vertex 3\n" + xyz + "0 0 0\n1 0 0\n0 1 1\n";
