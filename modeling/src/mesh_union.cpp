@@ -2,6 +2,8 @@
 
 #include "surface_mesh.h"
 
+#include "treeskel/disjoint_sets.h"
+
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
@@ -13,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
 #include <numeric>
 
 namespace treeskel::modeling::detail {
@@ -27,6 +30,50 @@ using Surface = CGAL::Surface_mesh<K::Point_3>;
 
 void append(Surface& out, const TreeMesh& mesh) { append_to_surface(out, mesh); }
 
+/// A coordinate as a double that does not depend on what was computed before: a lazy number's
+/// interval narrows once something needed its exact value (and what did depends on the order
+/// corefinement met the faces in, which follows their addresses), so its midpoint is not stable.
+/// The interval of a coordinate the inputs held is a single double; the others are taken exactly.
+double coordinate(const K::FT& x) {
+  const auto& i = x.approx();
+  if (i.inf() == i.sup()) return i.inf();
+  return CGAL::to_double(x.exact());
+}
+
+/// Where two parts of a union touch at a single point, a vertex holds two fans of faces (each fan
+/// the faces around it that share edges), which OpenMesh cannot hold (it would drop faces and leave
+/// holes): each fan after the first gets a copy of the vertex.
+void split_pinched_vertices(std::vector<std::array<double, 3>>& points, std::vector<std::array<std::size_t, 3>>& faces) {
+  std::vector<std::vector<std::size_t>> around(points.size());
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (std::size_t v : faces[f]) around[v].push_back(f);
+  const std::size_t n = points.size();
+  for (std::size_t v = 0; v < n; ++v) {
+    const auto& fs = around[v];
+    if (fs.size() < 2) continue;
+    // Faces around v that share an edge from v are in one fan.
+    DisjointSets<std::size_t> fan(fs.size());
+    std::map<std::size_t, std::size_t> first_with;  // other end of an edge from v -> a face holding it
+    for (std::size_t i = 0; i < fs.size(); ++i)
+      for (std::size_t w : faces[fs[i]])
+        if (w != v) {
+          const auto [it, fresh] = first_with.emplace(w, i);
+          if (!fresh) fan.unite(it->second, i);
+        }
+    std::map<std::size_t, std::size_t> copy_of;  // fan -> vertex
+    for (std::size_t i = 0; i < fs.size(); ++i) {
+      const std::size_t r = fan.find(i);
+      auto it = copy_of.find(r);
+      if (it == copy_of.end()) {
+        it = copy_of.emplace(r, copy_of.empty() ? v : points.size()).first;
+        if (it->second != v) points.push_back(points[v]);
+      }
+      for (auto& c : faces[fs[i]])
+        if (c == v) c = it->second;
+    }
+  }
+}
+
 /// The mesh with its points rounded to 32-bit floats in the frame `offset` leads to, in a canonical
 /// order (vertices by position, faces by their vertices): corefinement's own order differs from run
 /// to run, the result must not.
@@ -35,16 +82,37 @@ TreeMesh to_tree_mesh(const Surface& s, const Eigen::Vector3d& offset) {
   std::vector<Surface::Vertex_index> ids;
   for (auto v : s.vertices()) {
     const auto& p = s.point(v);
-    const Eigen::Vector3d exact(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    const Eigen::Vector3d exact(coordinate(p.x()), coordinate(p.y()), coordinate(p.z()));
     std::array<double, 3> q;
     for (int a = 0; a < 3; ++a)
       q[static_cast<std::size_t>(a)] = static_cast<double>(static_cast<float>(exact[a] + offset[a])) - offset[a];
     points.push_back(q);
     ids.push_back(v);
   }
+  // Points that round to the same floats (or the same exact point in two parts that touch) are
+  // told apart by their unrounded points, then by their neighbours': corefinement lists its
+  // vertices in an order that follows memory addresses.
+  std::vector<std::array<double, 3>> unrounded(points.size());
+  std::vector<std::size_t> index_of(s.number_of_vertices() + s.number_of_removed_vertices());
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const auto& p = s.point(ids[i]);
+    unrounded[i] = {coordinate(p.x()), coordinate(p.y()), coordinate(p.z())};
+    index_of[ids[i]] = i;
+  }
+  auto neighbours = [&](std::size_t i) {
+    std::vector<std::array<double, 3>> out;
+    if (s.halfedge(ids[i]) == Surface::null_halfedge()) return out;  // a vertex no face uses
+    for (auto h : CGAL::halfedges_around_target(s.halfedge(ids[i]), s)) out.push_back(unrounded[index_of[s.source(h)]]);
+    std::sort(out.begin(), out.end());
+    return out;
+  };
   std::vector<std::size_t> order(points.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return points[a] < points[b]; });
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (points[a] != points[b]) return points[a] < points[b];
+    if (unrounded[a] != unrounded[b]) return unrounded[a] < unrounded[b];
+    return neighbours(a) < neighbours(b);
+  });
   std::vector<std::size_t> rank(s.number_of_vertices() + s.number_of_removed_vertices());
   for (std::size_t k = 0; k < order.size(); ++k) rank[ids[order[k]]] = k;
   std::vector<std::array<std::size_t, 3>> faces;
@@ -59,20 +127,14 @@ TreeMesh to_tree_mesh(const Surface& s, const Eigen::Vector3d& offset) {
     faces.push_back(c);
   }
   std::sort(faces.begin(), faces.end());
+  std::vector<std::array<double, 3>> sorted;
+  for (std::size_t k : order) sorted.push_back(points[k]);
+  split_pinched_vertices(sorted, faces);
   TreeMesh out;
   std::vector<TreeMesh::VertexHandle> handle;
-  for (std::size_t k : order) handle.push_back(out.add_vertex(TreeMesh::Point(points[k][0], points[k][1], points[k][2])));
+  for (const auto& p : sorted) handle.push_back(out.add_vertex(TreeMesh::Point(p[0], p[1], p[2])));
   for (const auto& c : faces) out.add_face(handle[c[0]], handle[c[1]], handle[c[2]]);
   return out;
-}
-
-Eigen::AlignedBox3d box_of(const TreeMesh& mesh) {
-  Eigen::AlignedBox3d box;
-  for (auto v : mesh.vertices()) {
-    const auto p = mesh.point(v);
-    box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
-  }
-  return box;
 }
 
 /// Corefines `piece` into `whole` (their union replaces `whole`); false, with `whole` unchanged, if
@@ -138,7 +200,17 @@ bool collapse_edge(TreeMesh& mesh, TreeMesh::EdgeHandle e, double weld) {
 
 }  // namespace
 
-std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_t>& faces, double max_length) {
+Eigen::AlignedBox3d bounding_box(const TreeMesh& mesh) {
+  Eigen::AlignedBox3d box;
+  for (auto v : mesh.vertices()) {
+    const auto p = mesh.point(v);
+    box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
+  }
+  return box;
+}
+
+std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_t>& faces, double max_length,
+                                   double sliver) {
   mesh.request_vertex_status();
   mesh.request_edge_status();
   mesh.request_face_status();
@@ -155,13 +227,13 @@ std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_
         shortest = mesh.edge_handle(h);
       }
     }
-    if (shortest.is_valid() && collapse_edge(mesh, shortest, 0.0)) ++done;
+    if (shortest.is_valid() && collapse_edge(mesh, shortest, sliver)) ++done;
   }
   mesh.garbage_collection();
   return done;
 }
 
-std::size_t weld_short_edges(TreeMesh& mesh, double weld) {
+std::size_t weld_short_edges(TreeMesh& mesh, double weld, const std::vector<Eigen::AlignedBox3d>& where) {
   mesh.request_vertex_status();
   mesh.request_edge_status();
   mesh.request_face_status();
@@ -171,6 +243,11 @@ std::size_t weld_short_edges(TreeMesh& mesh, double weld) {
     again = false;
     for (auto e : mesh.edges()) {
       if (mesh.status(e).deleted() || mesh.calc_edge_sqr_length(e) > weld2) continue;
+      if (!where.empty()) {
+        const auto p = mesh.point(mesh.from_vertex_handle(mesh.halfedge_handle(e, 0)));
+        const Eigen::Vector3d q(p[0], p[1], p[2]);
+        if (std::none_of(where.begin(), where.end(), [&](const Eigen::AlignedBox3d& b) { return b.contains(q); })) continue;
+      }
       // Onto the end that stays (vertices keep their rounded coordinates).
       const bool done = collapse_edge(mesh, e, weld);
       if (!done) continue;
@@ -182,77 +259,102 @@ std::size_t weld_short_edges(TreeMesh& mesh, double weld) {
   return welded;
 }
 
-UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, double weld, const Eigen::Vector3d& offset) {
+UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, double weld, const Eigen::Vector3d& offset,
+                  const std::vector<Eigen::AlignedBox3d>& where) {
   // Box intersection (inside corefinement) shuffles with CGAL's default random generator: seeded
   // here, the same input gives the same mesh.
   CGAL::get_default_random() = CGAL::Random(0);
   UnionResult out;
   Surface whole;
   append(whole, base);
-  // Batches of pieces whose boxes (grown by a hair) overlap no other piece of the batch.
   std::vector<Eigen::AlignedBox3d> boxes;
   for (const auto& p : pieces) {
-    Eigen::AlignedBox3d b = box_of(p);
+    Eigen::AlignedBox3d b = bounding_box(p);
     const double grow = 1e-6 * std::max(b.sizes().maxCoeff(), 1e-300);
     b.min().array() -= grow;
     b.max().array() += grow;
     boxes.push_back(b);
   }
-  // Batches of pieces that neither cross nor hold one another: each batch is one corefinement
-  // with the whole (whose cost grows with the whole's size, not the batch's).
-  std::vector<std::vector<std::size_t>> batches;
-  std::vector<std::size_t> refused;
+  // A piece the union refuses is kept beside the mesh: its triangles are added as they are.
+  auto keep_apart = [&](const Surface& s, std::size_t count) {
+    whole.join(s);
+    out.failed += count;
+  };
   std::vector<Surface> surfaces(pieces.size());
+  std::vector<std::size_t> usable;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     // Corefinement needs closed inputs free of self-intersections (CGAL may crash otherwise).
     append(surfaces[i], pieces[i]);
-    if (!CGAL::is_closed(surfaces[i]) || PMP::does_self_intersect(surfaces[i])) {
-      refused.push_back(i);
+    if (!CGAL::is_closed(surfaces[i]) || PMP::does_self_intersect(surfaces[i])) keep_apart(surfaces[i], 1);
+    else usable.push_back(i);
+  }
+  // A corefinement with the whole costs as much as the whole is large: the pieces that cross or hold
+  // one another are united among themselves first, and the groups, which neither cross nor hold one
+  // another, go into one corefinement with the whole. (Uniting every two pieces whose boxes overlap,
+  // without testing them exactly, cost twice as much on AdTree's tree1: the unions are not cheap.)
+  DisjointSets<std::size_t> linked(pieces.size());
+  for (std::size_t a = 0; a < usable.size(); ++a)
+    for (std::size_t b = a + 1; b < usable.size(); ++b) {
+      const std::size_t i = usable[a], j = usable[b];
+      if (linked.find(i) != linked.find(j) && boxes[i].intersects(boxes[j]) &&
+          PMP::do_intersect(surfaces[i], surfaces[j], CGAL::parameters::do_overlap_test_of_bounded_sides(true),
+                            CGAL::parameters::do_overlap_test_of_bounded_sides(true)))
+        linked.unite(i, j);
+    }
+  struct Group {
+    Surface surface;
+    std::vector<std::size_t> members;  // the pieces united into it
+  };
+  std::vector<Group> groups;
+  std::vector<std::ptrdiff_t> group_of(pieces.size(), -1);
+  std::vector<std::size_t> alone;  // pieces their group's union refused, united with the whole alone
+  for (std::size_t i : usable) {
+    auto& g = group_of[linked.find(i)];
+    if (g < 0) {
+      g = static_cast<std::ptrdiff_t>(groups.size());
+      groups.push_back({surfaces[i], {i}});
       continue;
     }
-    bool placed = false;
-    for (auto& batch : batches) {
-      bool clear = true;
-      for (std::size_t j : batch)
-        if (boxes[i].intersects(boxes[j]) &&
-            PMP::do_intersect(surfaces[i], surfaces[j], CGAL::parameters::do_overlap_test_of_bounded_sides(true),
-                              CGAL::parameters::do_overlap_test_of_bounded_sides(true))) {
-          clear = false;
-          break;
-        }
-      if (!clear) continue;
-      batch.push_back(i);
-      placed = true;
-      break;
-    }
-    if (!placed) batches.push_back({i});
+    auto& into = groups[static_cast<std::size_t>(g)];
+    ++out.batches;
+    if (unite_into(into.surface, surfaces[i])) into.members.push_back(i);
+    else alone.push_back(i);
   }
-  for (const auto& batch : batches) {
+  if (!groups.empty()) {
     Surface together;
-    for (std::size_t i : batch) together.join(surfaces[i]);
+    std::size_t count = 0;
+    for (const auto& g : groups) {
+      together.join(g.surface);
+      count += g.members.size();
+    }
     ++out.batches;
     if (unite_into(whole, std::move(together))) {
-        out.united += batch.size();
-      continue;
-    }
-    for (std::size_t i : batch) {
-      if (batch.size() > 1) ++out.batches;
-      if (batch.size() > 1 && unite_into(whole, surfaces[i])) ++out.united;
-      else refused.push_back(i);
+      out.united += count;
+    } else {
+      // One group at a time, and the pieces of a group the whole refuses one at a time.
+      for (const auto& g : groups) {
+        if (groups.size() > 1) {
+          ++out.batches;
+          if (unite_into(whole, g.surface)) {
+            out.united += g.members.size();
+            continue;
+          }
+        }
+        if (g.members.size() > 1) alone.insert(alone.end(), g.members.begin(), g.members.end());
+        else keep_apart(g.surface, 1);
+      }
     }
   }
-  // A refused piece is kept beside the mesh: its triangles are added as they are.
-  for (std::size_t i : refused) {
-    whole.join(surfaces[i]);
-    ++out.failed;
+  for (std::size_t i : alone) {
+    ++out.batches;
+    if (unite_into(whole, surfaces[i])) ++out.united;
+    else keep_apart(surfaces[i], 1);
   }
   whole.collect_garbage();
   // The exact points rounded to what 32-bit floats hold in the input's frame, where most formats and
   // MeshLab keep them: a file then holds the mesh that was checked.
   out.mesh = to_tree_mesh(whole, offset);
-  if (out.batches > 0) {
-    out.welded = weld_short_edges(out.mesh, weld);
-  }
+  if (out.batches > 0) out.welded = weld_short_edges(out.mesh, weld, where);
   return out;
 }
 

@@ -4,7 +4,7 @@
 
 #include "treeskel/modeling/tree_mesh.h"
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <cstddef>
 #include <vector>
@@ -16,29 +16,35 @@ struct UnionResult {
   TreeMesh mesh;
   std::size_t united = 0;        ///< pieces now part of the mesh
   std::size_t failed = 0;        ///< pieces the union could not take (kept apart, as `apart`)
-  std::size_t batches = 0;       ///< corefinements run
+  std::size_t batches = 0;       ///< corefinements run (with the base or among the pieces)
   std::size_t welded = 0;        ///< edges shorter than the weld distance, collapsed
 };
 
-/// Collapses the edges of `mesh` shorter than `weld` (where the collapse keeps it manifold); returns
-/// how many. Corefinement puts vertices where two surfaces cross, some closer together than the
+/// The box of the points of `mesh`.
+Eigen::AlignedBox3d bounding_box(const TreeMesh& mesh);
+
+/// Collapses the edges of `mesh` shorter than `weld` (where the collapse keeps it manifold), those
+/// with an end in one of the boxes `where` if it is not empty; returns how many. Corefinement puts vertices where two surfaces cross, some closer together than the
 /// 32-bit floats of most mesh formats can tell apart: a reader would merge them into a
 /// non-manifold spot.
-std::size_t weld_short_edges(TreeMesh& mesh, double weld);
+std::size_t weld_short_edges(TreeMesh& mesh, double weld, const std::vector<Eigen::AlignedBox3d>& where = {});
 
 /// For each face of `faces` (indices), collapses its shortest edge if no longer than `max_length`
-/// (where that keeps the mesh manifold and turns no face over); returns how many. Rounding can
+/// (where that keeps the mesh manifold and turns no face over, slivers no taller than `sliver`
+/// aside); returns how many. Rounding can
 /// leave a sliver of the union crossing its neighbour: its shortest edge is where it folds.
-std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_t>& faces, double max_length);
+std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_t>& faces, double max_length,
+                                   double sliver = 0.0);
 
 /// Unites `pieces` with `base`. Each input must be closed, manifold and free of self-intersections.
-/// Pieces whose boxes do not overlap go into one corefinement together, so a tree with many
-/// pieces needs few (pieces that cross or hold one another go into different corefinements). A
-/// piece the union refuses is united alone; if that fails too it is kept
-/// beside the mesh as a component of its own (counted in `failed`), never left out.
+/// Pieces that cross or hold one another are united among themselves first; then all of them go
+/// into one corefinement with `base` (its cost follows the size of `base`, not of the pieces). A
+/// group the union refuses is united alone; if that fails too it is kept beside the mesh as a
+/// component of its own (counted in `failed`), never left out.
 /// The result's points are rounded to 32-bit floats in the frame `offset` leads to (local + offset),
-/// and its edges shorter than `weld` collapsed (see `weld_short_edges`).
+/// and its edges shorter than `weld` collapsed (see `weld_short_edges`; within `where` if given).
 UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, double weld,
-                  const Eigen::Vector3d& offset = Eigen::Vector3d::Zero());
+                  const Eigen::Vector3d& offset = Eigen::Vector3d::Zero(),
+                  const std::vector<Eigen::AlignedBox3d>& where = {});
 
 }  // namespace treeskel::modeling::detail

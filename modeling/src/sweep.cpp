@@ -5,6 +5,7 @@
 #include "treeskel/geometry.h"
 #include "treeskel/modeling/chains.h"
 #include "mesh_union.h"
+#include "pieces.h"
 #include "skeleton_parts.h"
 #include "tube.h"
 
@@ -43,10 +44,6 @@ constexpr int kMaxJunctionIterations = 80;
 /// A chain longer than this many radii between its end rings has room for its tube whatever way it
 /// turns (the rings laid along it are checked one against the next).
 constexpr double kRoomyChain = 4.0;
-/// Rounds of collapsing the slivers of a union that cross a neighbour once rounded to floats, and
-/// the longest edge (in weld distances) such a collapse may remove.
-constexpr int kSliverRounds = 4;
-constexpr double kSliverEdges = 1000.0;
 
 using UnionFind = DisjointSets<std::size_t>;
 
@@ -836,8 +833,8 @@ std::optional<double> clearing_factor(const Attempt& attempt, std::size_t x, std
 /// Sweeps what of `skeleton` fits together into one valid mesh. Subtrees that a join or a crossing
 /// left no room for are not swept here: their nodes go to `detached`, for `sweep_mesh` to sweep
 /// apart and unite with this mesh.
-TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, SweepStats& st,
-                        std::vector<NodeId>& detached) {
+TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, const Vector3d& frame, double floor_radius,
+                        SweepStats& st, std::vector<NodeId>& detached) {
   const ChainTree tree = build_chains(skeleton);
   const auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
@@ -871,7 +868,8 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, S
   for (int attempt_no = 0; attempt_no < max_attempts; ++attempt_no) {
     // The kept, scaled skeleton.
     Skeleton pruned = skeleton;  // positions, radii and edges only (see sweep_mesh)
-    for (NodeId v = 0; v < n; ++v) pruned[v].radius *= scale[v];
+    // Thinning stops at the floor radius: thinner tubes fold into themselves once rounded to floats.
+    for (NodeId v = 0; v < n; ++v) pruned[v].radius = std::max(pruned[v].radius * scale[v], std::min(pruned[v].radius, floor_radius));
     const auto new_id = compact_nodes(pruned, keep);
     std::vector<NodeId> old_id(boost::num_vertices(pruned.graph));
     for (NodeId v = 0; v < n; ++v)
@@ -912,9 +910,11 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, S
       const int budget = (limb && !is_base(top) ? 2 : 1) * options.max_shrinks;
       const double floor = std::pow(options.repair_shrink, budget);
       const bool at_floor = own_scale[top] <= floor * (1.0 + 1e-9);
-      if (own_scale[top] * factor < floor * (1.0 - 1e-9)) {
+      // A branch thinned to the floor radius is swept apart too.
+      const bool too_thin = g[top].radius * own_scale[top] * factor < floor_radius * (1.0 - 1e-9);
+      if (own_scale[top] * factor < floor * (1.0 - 1e-9) || too_thin) {
         // A twig is swept apart at once; a limb is first thinned to its floor.
-        if (!is_base(top) && (!limb || at_floor)) {
+        if (!is_base(top) && (!limb || at_floor || too_thin)) {
           drop(top);
           for (NodeId v : subtree(tree.children, top)) detached.push_back(v);
           ++st.repaired_dropped;
@@ -982,7 +982,10 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, S
       record_detached(pruned, old_id, a.detached);
       break;
     }
-    const auto pairs = self_intersecting_faces(*mesh);
+    // Tested in the 32-bit floats of the frame files hold (where rounding can fold the needle-thin
+    // faces of a twig's tip into each other), then in doubles (what OBJ holds).
+    auto pairs = self_intersecting_faces(detail::in_world_floats(*mesh, frame));
+    if (pairs.empty()) pairs = self_intersecting_faces(*mesh);
     st.self_intersections = pairs.size();
     if (pairs.empty() || !may_repair) {
       best = std::move(mesh);
@@ -1000,127 +1003,6 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, S
   return std::move(*best);
 }
 
-void add_counts(SweepStats& to, const SweepStats& from) {
-  to.branches += from.branches;
-  to.junctions += from.junctions;
-  to.merged_forks += from.merged_forks;
-  to.thin_left_out += from.thin_left_out;
-  to.relocated_branches += from.relocated_branches;
-  to.twigs_absorbed += from.twigs_absorbed;
-  to.joins_thinned += from.joins_thinned;
-  to.joins_dropped += from.joins_dropped;
-  to.repaired_shrunk += from.repaired_shrunk;
-  to.repaired_dropped += from.repaired_dropped;
-  to.repair_rounds += from.repair_rounds;
-  to.late_repair_rounds += from.late_repair_rounds;
-  to.attempts += from.attempts;
-  to.pieces += from.pieces;
-  to.pieces_apart += from.pieces_apart;
-  to.pieces_failed += from.pieces_failed;
-  to.unions += from.unions;
-  to.welded_edges += from.welded_edges;
-}
-
-/// A copy of `mesh` (same vertex and face order) at the 32-bit floats its points become in the
-/// frame `offset` leads to.
-TreeMesh in_world_floats(const TreeMesh& mesh, const Eigen::Vector3d& offset) {
-  TreeMesh out;
-  std::vector<TreeMesh::VertexHandle> handle;
-  for (auto v : mesh.vertices()) {
-    const auto p = mesh.point(v);
-    TreeMesh::Point q;
-    for (int a = 0; a < 3; ++a) q[a] = static_cast<double>(static_cast<float>(p[a] + offset[a]));
-    handle.push_back(out.add_vertex(q));
-  }
-  for (auto f : mesh.faces()) {
-    std::array<TreeMesh::VertexHandle, 3> c;
-    std::size_t k = 0;
-    for (auto v : mesh.fv_range(f)) c[k++] = handle[static_cast<std::size_t>(v.idx())];
-    out.add_face(c[0], c[1], c[2]);
-  }
-  return out;
-}
-
-/// Unites `pieces[first, last)` with `base` (see detail::unite), then collapses the slivers that the
-/// rounding to floats folds over a neighbour, testing in the input's frame on the very floats a
-/// file or MeshLab will hold there (the tree without the pieces may already cross itself there at
-/// `allowed` face pairs, where 32-bit floats merge what doubles keep apart: the union may not add to
-/// them). If crossings remain, the pieces are united in two halves, each
-/// checked, down to single pieces; a piece that still leaves a crossing is left out and counted in
-/// `pieces_failed` (the coverage in the report shows what it held), so the mesh stays valid.
-TreeMesh unite_checked(const TreeMesh& base, const std::vector<TreeMesh>& pieces, std::size_t first, std::size_t last,
-                       const SweepOptions& options, double extent, const Eigen::Vector3d& offset, std::size_t allowed,
-                       SweepStats& st) {
-  if (first == last) return base;
-  const std::vector<TreeMesh> some(pieces.begin() + static_cast<std::ptrdiff_t>(first),
-                                   pieces.begin() + static_cast<std::ptrdiff_t>(last));
-  detail::UnionResult united = detail::unite(base, some, options.weld * extent, offset);
-  TreeMesh mesh = std::move(united.mesh);
-  std::size_t welded = united.welded;
-  if (options.repair) {
-    auto pairs = self_intersecting_faces(in_world_floats(mesh, offset));
-    for (int round = 0; round < kSliverRounds && pairs.size() > allowed; ++round) {
-      std::vector<std::size_t> faces;
-      for (const auto& [a, b] : pairs) faces.insert(faces.end(), {a, b});
-      std::sort(faces.begin(), faces.end());
-      faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-      const std::size_t collapsed = detail::collapse_shortest_edges(mesh, faces, kSliverEdges * options.weld * extent);
-      if (collapsed == 0) break;
-      welded += collapsed;
-      pairs = self_intersecting_faces(in_world_floats(mesh, offset));
-    }
-    st.float_crossings = pairs.size();
-    if (pairs.size() > allowed) {
-      st.float_crossings = allowed;
-      if (last - first == 1) {
-        ++st.pieces_failed;
-        if (st.pieces > 0) --st.pieces;
-        return base;
-      }
-      const std::size_t mid = first + (last - first) / 2;
-      const TreeMesh half = unite_checked(base, pieces, first, mid, options, extent, offset, allowed, st);
-      return unite_checked(half, pieces, mid, last, options, extent, offset, allowed, st);
-    }
-  }
-  st.welded_edges += welded;
-  st.unions += united.batches;
-  st.pieces_apart += united.failed;
-  return mesh;
-}
-
-/// Sweeps `piece` on its own into `out`, split until its parts sweep (see sweep_mesh).
-void sweep_piece(const Skeleton& piece, const SweepOptions& options, SweepStats& st, std::vector<TreeMesh>& out) {
-  SweepStats piece_stats;
-  try {
-    TreeMesh mesh = sweep_mesh(piece, options, &piece_stats);
-    if (options.repair && piece_stats.self_intersections > 0) throw Error("the piece crosses itself");
-    out.push_back(std::move(mesh));
-    add_counts(st, piece_stats);
-    ++st.pieces;
-    return;
-  } catch (const Error&) {
-  }
-  // A piece that cannot be swept whole is split: each branch leaving its base chain's end (or its
-  // root) apart, and the base chain in two overlapping halves, until a single segment.
-  const ChainTree t = build_chains(piece);
-  if (t.children[piece.root].size() > 1) {
-    for (const auto& c : t.chains)
-      if (c.nodes.front() == piece.root) sweep_piece(piece_of(piece, t, c.nodes[1]), options, st, out);
-    return;
-  }
-  const auto& base = t.chains.front();
-  for (std::size_t c : base.children) sweep_piece(piece_of(piece, t, t.chains[c].nodes[1]), options, st, out);
-  if (base.nodes.size() < 3) {
-    ++st.pieces_failed;  // a single segment that cannot be swept: said in the report
-    return;
-  }
-  const std::size_t m = base.nodes.size() / 2;
-  const std::vector<NodeId> first(base.nodes.begin(), base.nodes.begin() + static_cast<std::ptrdiff_t>(m) + 1);
-  const std::vector<NodeId> second(base.nodes.begin() + static_cast<std::ptrdiff_t>(m > 1 ? m - 1 : m), base.nodes.end());
-  sweep_piece(path_of(piece, first), options, st, out);
-  sweep_piece(path_of(piece, second), options, st, out);
-}
-
 }  // namespace
 
 void check_sweep_options(const SweepOptions& options) {
@@ -1132,8 +1014,24 @@ void check_sweep_options(const SweepOptions& options) {
   if (!(options.repair_shrink > 0.0 && options.repair_shrink < 1.0)) throw OptionError("the repair shrink factor must be in (0, 1)");
 }
 
+Eigen::Vector3d detail::file_frame(const Skeleton& skeleton) {
+  Eigen::AlignedBox3d box;
+  for (NodeId v = 0; v < boost::num_vertices(skeleton.graph); ++v) box.extend(skeleton[v].position);
+  // The input's, unless 32-bit floats would round it by more than 1e-5 of the tree's size (a
+  // georeferenced tree), when files hold local coordinates (io/mesh_io.h).
+  const double far =
+      (box.min() + skeleton.offset).cwiseAbs().cwiseMax((box.max() + skeleton.offset).cwiseAbs()).maxCoeff();
+  return far * std::ldexp(1.0, -24) > 1e-5 * box.sizes().maxCoeff() ? Eigen::Vector3d::Zero() : skeleton.offset;
+}
+
 TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, SweepStats* stats) {
   check_sweep_options(options);
+  if (boost::num_vertices(skeleton.graph) < 2) throw InputError("the skeleton has no branch to sweep (a single node)");
+  return detail::sweep_in_frame(skeleton, options, detail::file_frame(skeleton), -1.0, stats);
+}
+
+TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,
+                            double floor_radius, SweepStats& st, std::vector<Skeleton>& apart, Skeleton* kept) {
   const ChainTree tree = build_chains(skeleton);
   const auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
@@ -1146,9 +1044,8 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
     max_radius = std::max(max_radius, g[v].radius);
   }
 
-  SweepStats st;
   // The sweep needs positions, radii and edges only; radii under the floor are raised to it.
-  const double floor = options.min_relative_radius * max_radius;
+  const double floor = floor_radius;
   Skeleton shape;
   shape.root = skeleton.root;
   shape.offset = skeleton.offset;
@@ -1167,41 +1064,59 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
   o.min_relative_radius = 0.0;  // applied above, once for the whole tree
 
   std::vector<NodeId> detached;
-  TreeMesh mesh = sweep_attached(shape, o, st, detached);
+  TreeMesh mesh = sweep_attached(shape, o, frame, floor, st, detached);
   if (!detached.empty() && !options.unite_apart) {
-    std::vector<bool> apart(n, false);
-    for (NodeId v : detached) apart[v] = true;
+    std::vector<bool> cut(n, false);
+    for (NodeId v : detached) cut[v] = true;
     for (NodeId v = 0; v < n; ++v)
-      if (apart[v] && !apart[tree.parent[v]]) ++st.pieces_failed;  // left out, as asked
+      if (cut[v] && !cut[tree.parent[v]]) ++st.pieces_failed;  // left out, as asked
   } else if (!detached.empty()) {
     // Each subtree left out above is swept on its own, and the pieces are united with the mesh: a
-    // limb is never lost for want of room at a join.
-    // One piece per branch, none inside another's piece.
+    // limb is never lost for want of room at a join. One piece per branch, none inside another's.
     std::vector<bool> taken(n, false);
-    std::vector<bool> apart(n, false);
-    for (NodeId v : detached) apart[v] = true;
+    std::vector<bool> cut(n, false);
+    for (NodeId v : detached) cut[v] = true;
     std::vector<NodeId> tops;
     for (NodeId v = 0; v < n; ++v)
-      if (apart[v] && v != shape.root && !apart[tree.parent[v]])
+      if (cut[v] && v != shape.root && !cut[tree.parent[v]])
         tops.push_back(tree.chains[static_cast<std::size_t>(tree.chain_of[v])].nodes[1]);
     std::sort(tops.begin(), tops.end(), [&](NodeId a, NodeId b) { return tree.chain_of[a] < tree.chain_of[b]; });
     tops.erase(std::unique(tops.begin(), tops.end()), tops.end());
-    std::vector<TreeMesh> pieces;
+    std::vector<NodeId> outer;
     for (NodeId top : tops) {
       if (taken[top]) continue;
       for (NodeId v : subtree(tree.children, top)) taken[v] = true;
-      sweep_piece(piece_of(shape, tree, top), o, st, pieces);
+      outer.push_back(top);
     }
-    Eigen::AlignedBox3d box;
-    for (NodeId v = 0; v < n; ++v) box.extend(g[v].position);
-    // The frame files will hold: the input's, unless 32-bit floats would round it by more than 1e-5
-    // of the tree's size (a georeferenced tree), when they hold local coordinates (io/mesh_io.h).
-    const double far = (box.min() + skeleton.offset).cwiseAbs().cwiseMax((box.max() + skeleton.offset).cwiseAbs()).maxCoeff();
-    const Eigen::Vector3d frame =
-        far * std::ldexp(1.0, -24) > 1e-5 * box.sizes().maxCoeff() ? Eigen::Vector3d::Zero() : skeleton.offset;
-    const std::size_t allowed = options.repair ? self_intersecting_faces(in_world_floats(mesh, frame)).size() : 0;
-    mesh = unite_checked(mesh, pieces, 0, pieces.size(), options, box.sizes().maxCoeff(), frame, allowed, st);
+    for (NodeId top : outer) apart.push_back(piece_of(shape, tree, top));
+    if (kept) {
+      std::vector<bool> keep(n);
+      for (NodeId v = 0; v < n; ++v) keep[v] = !taken[v];
+      *kept = shape;
+      compact_nodes(*kept, keep);
+    }
+    return mesh;
   }
+  if (kept) *kept = shape;
+  return mesh;
+}
+
+TreeMesh detail::sweep_in_frame(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,
+                                double floor_radius, SweepStats* stats) {
+  if (floor_radius < 0.0) {
+    // Raised to the floor: a share of the thickest radius, or of the tree's extent.
+    double max_radius = 0.0;
+    Eigen::AlignedBox3d box;
+    for (NodeId v = 0; v < skeleton.node_count(); ++v) {
+      if (std::isfinite(skeleton[v].radius)) max_radius = std::max(max_radius, skeleton[v].radius);
+      box.extend(skeleton[v].position);
+    }
+    floor_radius = std::max(options.min_relative_radius * max_radius, options.min_extent_radius * box.sizes().maxCoeff());
+  }
+  SweepStats st;
+  std::vector<Skeleton> apart;
+  TreeMesh mesh = sweep_part(skeleton, options, frame, floor_radius, st, apart, nullptr);
+  if (!apart.empty()) mesh = add_pieces(std::move(mesh), apart, options, frame, floor_radius, st);
   if (stats) *stats = st;
   return mesh;
 }

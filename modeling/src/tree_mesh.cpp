@@ -26,14 +26,31 @@ std::string MeshCheck::problem() const {
   return out.str();
 }
 
-std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces(const TreeMesh& mesh) {
+namespace {
+
+template <typename FaceRange>
+std::vector<std::pair<std::size_t, std::size_t>> crossing_pairs(const FaceRange& range, const TreeMesh& mesh) {
   using Face = boost::graph_traits<TreeMesh>::face_descriptor;
   std::vector<std::pair<Face, Face>> pairs;
-  PMP::self_intersections<CGAL::Parallel_if_available_tag>(faces(mesh), mesh, std::back_inserter(pairs));
+  PMP::self_intersections<CGAL::Parallel_if_available_tag>(range, mesh, std::back_inserter(pairs));
   std::vector<std::pair<std::size_t, std::size_t>> out;
   out.reserve(pairs.size());
   for (const auto& [a, b] : pairs) out.emplace_back(static_cast<std::size_t>(a.idx()), static_cast<std::size_t>(b.idx()));
   return out;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces(const TreeMesh& mesh) {
+  return crossing_pairs(faces(mesh), mesh);
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces(const TreeMesh& mesh,
+                                                                        const std::vector<std::size_t>& among) {
+  std::vector<TreeMesh::FaceHandle> range;
+  range.reserve(among.size());
+  for (std::size_t f : among) range.push_back(mesh.face_handle(static_cast<unsigned>(f)));
+  return crossing_pairs(range, mesh);
 }
 
 MeshCheck check_mesh(const TreeMesh& mesh, bool self_intersections) {

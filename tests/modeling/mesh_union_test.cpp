@@ -33,11 +33,53 @@ TEST(MeshUnion, KeepsEveryPieceInOneMesh) {
   EXPECT_GT(check_mesh(united.mesh).volume, check_mesh(trunk).volume);
 }
 
+// Two limbs that cross each other are united between themselves first, then with the trunk in one
+// corefinement: one closed mesh.
+TEST(MeshUnion, PiecesThatCrossAreUnitedTogetherFirst) {
+  const TreeMesh trunk = sweep_mesh(test::straight(2.0, 0.1, 20));
+  auto limb = [](double z, const Eigen::Vector3d& to) {
+    Skeleton s;
+    SkeletonNode a;
+    a.position = Eigen::Vector3d(0, 0, z);
+    a.radius = 0.04;
+    s.root = add_node(s, a);
+    test::add_run(s, s.root, to, 0.03, 10);
+    return sweep_mesh(s);
+  };
+  const TreeMesh low = limb(0.8, Eigen::Vector3d(1, 0, 1.6));
+  const TreeMesh high = limb(1.6, Eigen::Vector3d(1, 0, 0.8));  // crosses `low` at x = 0.5
+  const TreeMesh apart = limb(1.0, Eigen::Vector3d(-1, 0, 1.2));
+  const auto united = detail::unite(trunk, {low, high, apart}, 1e-6 * 2.0);
+  EXPECT_EQ(united.united, 3u);
+  EXPECT_EQ(united.failed, 0u);
+  EXPECT_EQ(united.batches, 2u);  // low with high, then all with the trunk
+  expect_valid(united.mesh);
+}
+
 TEST(MeshUnion, WeldsOnlyEdgesShorterThanTheDistance) {
   TreeMesh mesh = sweep_mesh(test::straight(2.0, 0.1, 20));
   const std::size_t before = mesh.n_vertices();
   EXPECT_EQ(detail::weld_short_edges(mesh, 1e-9), 0u);
   EXPECT_EQ(mesh.n_vertices(), before);
+}
+
+// Welding can be kept to boxes: a short edge outside them stays.
+TEST(MeshUnion, WeldsOnlyWithinTheBoxesGiven) {
+  const TreeMesh tube = sweep_mesh(test::straight(2.0, 0.1, 20));
+  TreeMesh mesh = tube;
+  // One vertex moved next to a neighbour: an edge 1e-9 long.
+  const auto h = *mesh.voh_begin(mesh.vertex_handle(0));
+  const auto from = mesh.from_vertex_handle(h), to = mesh.to_vertex_handle(h);
+  mesh.set_point(to, mesh.point(from) + (mesh.point(to) - mesh.point(from)).normalized() * 1e-9);
+  const auto p = mesh.point(from);
+  const Eigen::Vector3d at(p[0], p[1], p[2]);
+  TreeMesh kept = mesh;
+  const Eigen::AlignedBox3d far(Eigen::Vector3d(5, 5, 5), Eigen::Vector3d(6, 6, 6));
+  EXPECT_EQ(detail::weld_short_edges(kept, 1e-6, {far}), 0u);
+  EXPECT_EQ(kept.n_vertices(), tube.n_vertices());
+  const Eigen::AlignedBox3d near(at - Eigen::Vector3d::Constant(0.01), at + Eigen::Vector3d::Constant(0.01));
+  EXPECT_EQ(detail::weld_short_edges(mesh, 1e-6, {near}), 1u);
+  EXPECT_EQ(mesh.n_vertices(), tube.n_vertices() - 1);
 }
 
 TEST(MeshUnion, PiecesApartStayAsTheirOwnComponents) {

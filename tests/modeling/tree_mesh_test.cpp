@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <numeric>
+
 namespace treeskel::modeling {
 namespace {
 
@@ -65,6 +67,23 @@ TEST(CheckMesh, FindsSelfIntersections) {
   add_tetrahedron(m, P(0.2, 0.2, 0.2));
   EXPECT_GT(check_mesh(m).self_intersections, 0u);
   EXPECT_EQ(check_mesh(m, false).self_intersections, 0u);  // not asked
+}
+
+// Testing a subset of the faces finds the crossings between two of them and no others.
+TEST(CheckMesh, SelfIntersectionsAmongSomeFaces) {
+  TreeMesh m;
+  add_tetrahedron(m, P(0, 0, 0));
+  add_tetrahedron(m, P(0.2, 0.2, 0.2));
+  add_tetrahedron(m, P(5, 0, 0));
+  const auto all = self_intersecting_faces(m);
+  ASSERT_FALSE(all.empty());
+  std::vector<std::size_t> every(m.n_faces());
+  std::iota(every.begin(), every.end(), std::size_t{0});
+  EXPECT_EQ(self_intersecting_faces(m, every), all);
+  // The tetrahedra hold faces 0-3, 4-7 and (apart from the others) 8-11.
+  EXPECT_TRUE(self_intersecting_faces(m, {0, 1, 2, 3, 8, 9, 10, 11}).empty());  // one of the crossing two
+  EXPECT_EQ(self_intersecting_faces(m, {0, 1, 2, 3, 4, 5, 6, 7}), all);
+  EXPECT_TRUE(self_intersecting_faces(m, {}).empty());
 }
 
 TEST(CheckMesh, EmptyMeshIsAProblem) {

@@ -22,6 +22,9 @@ struct SweepOptions {
   /// of the trunk, whose rings would collapse to points in the 32-bit floats every mesh format
   /// stores; raised, the twig stays visible and the saved mesh manifold (0: no floor).
   double min_relative_radius = 1e-3;
+  /// ... and below this share of the tree's extent (the largest side of its box): thinner tubes,
+  /// once rounded to the 32-bit floats of mesh files, fold into themselves where they meet others.
+  double min_extent_radius = 1e-4;
   /// Along a branch a new ring is laid when the branch has run this many radii since the last one ...
   double ring_spacing = 0.75;
   /// ... or has turned by more than this (radians).
@@ -83,7 +86,7 @@ struct SweepStats {
   /// Subtrees that a join or a crossing left no room for, swept on their own and united with the
   /// tree (CGAL corefinement): `joins_dropped` and `repaired_dropped` count these, not losses.
   std::size_t pieces = 0;
-  std::size_t unions = 0;          ///< corefinements run to unite the pieces
+  std::size_t unions = 0;          ///< corefinements run to unite the pieces (retries included)
   std::size_t pieces_apart = 0;    ///< pieces the union refused, kept as components of their own
   /// Pieces missing from the mesh: swept even alone only as a single failing segment, or left out
   /// because uniting them made the mesh cross itself (in the floats files hold), or with

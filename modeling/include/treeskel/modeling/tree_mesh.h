@@ -47,4 +47,9 @@ MeshCheck check_mesh(const TreeMesh& mesh, bool self_intersections = true);
 /// it do not count.
 std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces(const TreeMesh& mesh);
 
+/// The same among the faces `among` (indices) only: pairs of two of them. Where a change to a mesh
+/// is confined to a region, testing the faces there is enough to tell whether it added a crossing.
+std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces(const TreeMesh& mesh,
+                                                                        const std::vector<std::size_t>& among);
+
 }  // namespace treeskel::modeling

@@ -1,0 +1,324 @@
+#include "pieces.h"
+
+#include "mesh_union.h"
+#include "skeleton_parts.h"
+#include "treeskel/error.h"
+
+#include <CGAL/box_intersection_d.h>
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <unordered_set>
+#include <utility>
+
+namespace treeskel::modeling::detail {
+
+namespace {
+
+/// Rounds of collapsing the slivers of a union that cross a neighbour once rounded to floats, and
+/// the longest edge (in weld distances) such a collapse may remove.
+constexpr int kSliverRounds = 4;
+constexpr double kSliverEdges = 1000.0;
+/// Faces no taller than this (in weld distances) have no direction a collapse must keep.
+constexpr double kSliverHeight = 10.0;
+
+using Box = Eigen::AlignedBox3d;
+using Pairs = std::vector<std::pair<std::size_t, std::size_t>>;
+
+/// A piece: its skeleton (to split it if it cannot be united whole) and its mesh.
+struct Piece {
+  Skeleton skeleton;
+  TreeMesh mesh;
+};
+
+Box face_box(const TreeMesh& mesh, TreeMesh::FaceHandle f) {
+  Box b;
+  for (auto v : mesh.fv_range(f)) {
+    const auto p = mesh.point(v);
+    b.extend(Eigen::Vector3d(p[0], p[1], p[2]));
+  }
+  return b;
+}
+
+using Key = std::array<double, 3>;
+struct KeyHash {
+  std::size_t operator()(const Key& k) const {
+    std::size_t h = 0;
+    for (double x : k) h = h * 1000003u ^ std::hash<double>()(x);
+    return h;
+  }
+};
+
+/// A point as the 32-bit floats of the frame `offset` leads to hold it.
+Key world_key(const TreeMesh::Point& p, const Eigen::Vector3d& offset) {
+  Key k;
+  for (int a = 0; a < 3; ++a) k[static_cast<std::size_t>(a)] = static_cast<double>(static_cast<float>(p[a] + offset[a]));
+  return k;
+}
+
+/// Boxes (grown by `slack`) of the faces of `united` with a point that is in none of `inputs` (once
+/// rounded to the floats of the frame): the faces the union made where the surfaces cross.
+std::vector<Box> changed_boxes(const TreeMesh& united, const std::vector<const TreeMesh*>& inputs,
+                               const Eigen::Vector3d& offset, double slack) {
+  std::unordered_set<Key, KeyHash> old;
+  for (const TreeMesh* m : inputs)
+    for (auto v : m->vertices()) old.insert(world_key(m->point(v), offset));
+  std::vector<Box> out;
+  for (auto f : united.faces()) {
+    bool fresh = false;
+    for (auto v : united.fv_range(f)) fresh = fresh || !old.count(world_key(united.point(v), offset));
+    if (!fresh) continue;
+    Box b = face_box(united, f);
+    b.min().array() -= slack;
+    b.max().array() += slack;
+    out.push_back(b);
+  }
+  return out;
+}
+
+/// Faces of `mesh` whose boxes meet one of `boxes` (CGAL's box intersection, on the faces within the
+/// boxes' own box).
+std::vector<std::size_t> faces_touching(const TreeMesh& mesh, const std::vector<Box>& boxes) {
+  using CBox = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t, CGAL::Box_intersection_d::ID_EXPLICIT>;
+  auto cbox = [](const Box& b, std::size_t id) {
+    double lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = b.min()[d];
+      hi[d] = b.max()[d];
+    }
+    return CBox(lo, hi, id);
+  };
+  Box all;
+  for (const auto& b : boxes) all.extend(b);
+  std::vector<CBox> faces, regions;
+  for (auto f : mesh.faces()) {
+    const Box b = face_box(mesh, f);
+    if (all.intersects(b)) faces.push_back(cbox(b, static_cast<std::size_t>(f.idx())));
+  }
+  for (std::size_t i = 0; i < boxes.size(); ++i) regions.push_back(cbox(boxes[i], i));
+  std::vector<std::size_t> out;
+  CGAL::box_intersection_d(faces.begin(), faces.end(), regions.begin(), regions.end(),
+                           [&](const CBox& face, const CBox&) { out.push_back(face.info()); });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+/// Crossings (faces of `mesh`, by index) among the faces that meet `regions`, in the floats of the
+/// frame `offset` leads to. A crossing the union added pairs a face it made with one whose box
+/// meets that face's: testing the faces that meet the changed faces' boxes, before and after,
+/// tells whether it added one. Only those faces are copied and rounded (the tree can be large).
+Pairs crossings_in(const TreeMesh& mesh, const Eigen::Vector3d& offset, const std::vector<Box>& regions) {
+  const std::vector<std::size_t> faces = faces_touching(mesh, regions);
+  TreeMesh patch;
+  std::vector<TreeMesh::VertexHandle> handle(mesh.n_vertices());
+  std::vector<std::size_t> original;  // per face of the patch
+  for (std::size_t f : faces) {
+    std::array<TreeMesh::VertexHandle, 3> c;
+    std::size_t k = 0;
+    for (auto v : mesh.fv_range(mesh.face_handle(static_cast<unsigned>(f)))) {
+      auto& h = handle[static_cast<std::size_t>(v.idx())];
+      if (!h.is_valid()) {
+        const Key w = world_key(mesh.point(v), offset);
+        h = patch.add_vertex(TreeMesh::Point(w[0], w[1], w[2]));
+      }
+      c[k++] = h;
+    }
+    if (patch.add_face(c[0], c[1], c[2]).is_valid()) original.push_back(f);
+  }
+  Pairs pairs = self_intersecting_faces(patch);
+  for (auto& [a, b] : pairs) {
+    a = original[a];
+    b = original[b];
+  }
+  return pairs;
+}
+
+/// Sweeps pieces and unites them with a mesh (see add_pieces).
+class Uniter {
+ public:
+  Uniter(const SweepOptions& options, double extent, const Eigen::Vector3d& frame, double floor_radius, SweepStats& st)
+      : o_(options), extent_(extent), frame_(frame), floor_(floor_radius), st_(st) {}
+
+  /// Sweeps `first` on its own into `out`, and each piece its sweep leaves apart; a piece that does
+  /// not sweep is split until its parts do. (A loop, not a recursion: a crowded crown can leave
+  /// pieces apart from pieces thousands deep.)
+  void sweep(const Skeleton& first, std::vector<Piece>& out) {
+    std::vector<Skeleton> todo{first};
+    while (!todo.empty()) {
+      const Skeleton piece = std::move(todo.back());
+      todo.pop_back();
+      SweepStats piece_stats;
+      std::vector<Skeleton> apart;
+      Skeleton kept;
+      try {
+        TreeMesh mesh = sweep_part(piece, o_, frame_, floor_, piece_stats, apart, &kept);
+        if (o_.repair && piece_stats.self_intersections > 0) throw Error("the piece crosses itself");
+        out.push_back({std::move(kept), std::move(mesh)});
+        add_counts(st_, piece_stats);
+        ++st_.pieces;
+        for (auto& a : apart) todo.push_back(std::move(a));
+        continue;
+      } catch (const Error&) {
+      }
+      auto parts = split_piece(piece);
+      if (parts.empty()) ++st_.pieces_failed;  // a single segment that cannot be swept: said in the report
+      for (auto& part : parts) todo.push_back(std::move(part));
+    }
+  }
+
+  /// `base` with `pieces` united into it, adding no crossing in the floats of the frame.
+  TreeMesh unite(const TreeMesh& base, std::vector<Piece> pieces) {
+    if (pieces.empty()) return base;
+    // Boxes grown by the longest edge a sliver collapse may remove.
+    const double slack = kSliverEdges * o_.weld * extent_;
+    std::vector<TreeMesh> meshes;
+    std::vector<Box> boxes;
+    for (auto& p : pieces) {
+      Box b = bounding_box(p.mesh);
+      b.min().array() -= slack;
+      b.max().array() += slack;
+      boxes.push_back(b);
+      meshes.push_back(p.mesh);
+    }
+    UnionResult united = detail::unite(base, meshes, o_.weld * extent_, frame_, boxes);
+    TreeMesh mesh = std::move(united.mesh);
+    std::size_t welded = united.welded;
+    st_.unions += united.batches;
+    if (o_.repair) {
+      std::vector<const TreeMesh*> inputs{&base};
+      for (const auto& p : pieces) inputs.push_back(&p.mesh);
+      const std::vector<Box> regions = changed_boxes(mesh, inputs, frame_, slack);
+      const std::size_t before = crossings_in(base, frame_, regions).size();
+      Pairs pairs = crossings_in(mesh, frame_, regions);
+      for (int round = 0; round < kSliverRounds && pairs.size() > before; ++round) {
+        std::vector<std::size_t> faces;
+        for (const auto& [a, b] : pairs) faces.insert(faces.end(), {a, b});
+        std::sort(faces.begin(), faces.end());
+        faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+        const std::size_t collapsed = collapse_shortest_edges(mesh, faces, slack, kSliverHeight * o_.weld * extent_);
+        if (collapsed == 0) break;
+        welded += collapsed;
+        pairs = crossings_in(mesh, frame_, regions);
+      }
+      if (pairs.size() > before) return retry(base, std::move(pieces), mesh, pairs, boxes);
+    }
+    st_.welded_edges += welded;
+    st_.pieces_apart += united.failed;
+    return mesh;
+  }
+
+ private:
+  /// The union of `pieces` with `base` added the crossings `pairs` (faces of `united`): the pieces
+  /// near them are united after the others, on their own, and a single piece is split.
+  TreeMesh retry(const TreeMesh& base, std::vector<Piece> pieces, const TreeMesh& united, const Pairs& pairs,
+                 const std::vector<Box>& boxes) {
+    if (pieces.size() == 1) {
+      if (st_.pieces > 0) --st_.pieces;
+      const auto parts = split_piece(pieces.front().skeleton);
+      if (parts.empty()) {
+        ++st_.pieces_failed;
+        return base;
+      }
+      std::vector<Piece> smaller;
+      for (const auto& part : parts) sweep(part, smaller);
+      return unite(base, std::move(smaller));
+    }
+    std::vector<bool> suspect(pieces.size(), false);
+    for (const auto& [a, b] : pairs)
+      for (std::size_t f : {a, b}) {
+        const Box fb = face_box(united, united.face_handle(static_cast<unsigned>(f)));
+        for (std::size_t i = 0; i < boxes.size(); ++i) suspect[i] = suspect[i] || boxes[i].intersects(fb);
+      }
+    std::vector<Piece> clear, near;
+    for (std::size_t i = 0; i < pieces.size(); ++i) (suspect[i] ? near : clear).push_back(std::move(pieces[i]));
+    if (clear.empty() || near.empty()) {  // no telling which: in halves
+      std::vector<Piece>& all = clear.empty() ? near : clear;
+      std::vector<Piece> second(std::make_move_iterator(all.begin() + static_cast<std::ptrdiff_t>(all.size() / 2)),
+                                std::make_move_iterator(all.end()));
+      all.resize(all.size() / 2);
+      return unite(unite(base, std::move(all)), std::move(second));
+    }
+    return unite(unite(base, std::move(clear)), std::move(near));
+  }
+
+  const SweepOptions& o_;
+  double extent_;
+  Eigen::Vector3d frame_;
+  double floor_;
+  SweepStats& st_;
+};
+
+}  // namespace
+
+void add_counts(SweepStats& to, const SweepStats& from) {
+  to.branches += from.branches;
+  to.junctions += from.junctions;
+  to.merged_forks += from.merged_forks;
+  to.thin_left_out += from.thin_left_out;
+  to.relocated_branches += from.relocated_branches;
+  to.twigs_absorbed += from.twigs_absorbed;
+  to.joins_thinned += from.joins_thinned;
+  to.joins_dropped += from.joins_dropped;
+  to.repaired_shrunk += from.repaired_shrunk;
+  to.repaired_dropped += from.repaired_dropped;
+  to.repair_rounds += from.repair_rounds;
+  to.late_repair_rounds += from.late_repair_rounds;
+  to.attempts += from.attempts;
+  to.pieces += from.pieces;
+  to.pieces_apart += from.pieces_apart;
+  to.pieces_failed += from.pieces_failed;
+  to.unions += from.unions;
+  to.welded_edges += from.welded_edges;
+}
+
+TreeMesh in_world_floats(const TreeMesh& mesh, const Eigen::Vector3d& offset) {
+  TreeMesh out;
+  std::vector<TreeMesh::VertexHandle> handle;
+  for (auto v : mesh.vertices()) {
+    const auto p = mesh.point(v);
+    TreeMesh::Point q;
+    for (int a = 0; a < 3; ++a) q[a] = static_cast<double>(static_cast<float>(p[a] + offset[a]));
+    handle.push_back(out.add_vertex(q));
+  }
+  for (auto f : mesh.faces()) {
+    std::array<TreeMesh::VertexHandle, 3> c;
+    std::size_t k = 0;
+    for (auto v : mesh.fv_range(f)) c[k++] = handle[static_cast<std::size_t>(v.idx())];
+    out.add_face(c[0], c[1], c[2]);
+  }
+  return out;
+}
+
+std::vector<Skeleton> split_piece(const Skeleton& piece) {
+  const ChainTree t = build_chains(piece);
+  std::vector<Skeleton> parts;
+  if (t.children[piece.root].size() > 1) {
+    for (const auto& c : t.chains)
+      if (c.nodes.front() == piece.root) parts.push_back(piece_of(piece, t, c.nodes[1]));
+    return parts;
+  }
+  const auto& base = t.chains.front();
+  for (std::size_t c : base.children) parts.push_back(piece_of(piece, t, t.chains[c].nodes[1]));
+  if (base.nodes.size() < 3) {
+    // A single segment: alone, if it carries branches (else it cannot be split).
+    if (!parts.empty()) parts.push_back(path_of(piece, base.nodes));
+    return parts;
+  }
+  const std::size_t m = base.nodes.size() / 2;
+  parts.push_back(path_of(piece, {base.nodes.begin(), base.nodes.begin() + static_cast<std::ptrdiff_t>(m) + 1}));
+  parts.push_back(path_of(piece, {base.nodes.begin() + static_cast<std::ptrdiff_t>(m > 1 ? m - 1 : m), base.nodes.end()}));
+  return parts;
+}
+
+TreeMesh add_pieces(TreeMesh mesh, const std::vector<Skeleton>& pieces, const SweepOptions& options,
+                    const Eigen::Vector3d& frame, double floor_radius, SweepStats& st) {
+  Uniter uniter(options, bounding_box(mesh).sizes().maxCoeff(), frame, floor_radius, st);
+  std::vector<Piece> swept;
+  for (const auto& piece : pieces) uniter.sweep(piece, swept);
+  if (options.repair) st.float_crossings = self_intersecting_faces(in_world_floats(mesh, frame)).size();
+  return uniter.unite(mesh, std::move(swept));
+}
+
+}  // namespace treeskel::modeling::detail

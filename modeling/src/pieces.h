@@ -1,0 +1,52 @@
+// The limbs the sweep of a tree leaves no room for (at a join, or by a crossing its repair could not
+// clear): each swept on its own, with everything it carries, and united with the tree.
+#pragma once
+
+#include "treeskel/modeling/sweep.h"
+#include "treeskel/skeleton.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace treeskel::modeling::detail {
+
+/// The offset to the frame files of this skeleton's mesh hold (local + offset): the input's, unless
+/// 32-bit floats would round it by more than 1e-5 of the tree's size (then local, zero).
+Eigen::Vector3d file_frame(const Skeleton& skeleton);
+
+/// `sweep_mesh` with the frame files hold and the floor radius given (a piece of a tree is checked
+/// in the tree's frame and keeps the tree's floor; a negative floor: `min_relative_radius` of the
+/// thickest radius or `min_extent_radius` of the extent, the larger). No branch is thinned below
+/// the floor; one that would be is swept apart.
+TreeMesh sweep_in_frame(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,
+                        double floor_radius, SweepStats* stats);
+
+/// The sweep of what of `skeleton` fits together (radii under `floor_radius` raised to it); the
+/// branches a join or a crossing left no room for are appended to `apart` (each as `piece_of` cuts
+/// it, with all it carries), not swept, and `kept` (if given) receives the skeleton the mesh is of.
+/// With `unite_apart` off they are counted in `pieces_failed` instead.
+TreeMesh sweep_part(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,
+                    double floor_radius, SweepStats& st, std::vector<Skeleton>& apart, Skeleton* kept);
+
+/// Adds to `to` the counts of `from` (a piece's sweep) that add up over pieces.
+void add_counts(SweepStats& to, const SweepStats& from);
+
+/// A copy of `mesh` (same vertex and face order) at the 32-bit floats its points become in the
+/// frame `offset` leads to.
+TreeMesh in_world_floats(const TreeMesh& mesh, const Eigen::Vector3d& offset);
+
+/// How a piece that cannot be swept or united whole is split: each branch leaving its base chain's
+/// end (or its root, when several leave it) apart, and the base chain in two overlapping halves.
+/// Empty for a single segment, which cannot be split.
+std::vector<Skeleton> split_piece(const Skeleton& piece);
+
+/// Sweeps `pieces` (with `sweep_part`; what each leaves apart becomes a piece too) and unites them
+/// with `mesh`. `frame` is the offset to the frame files hold (local + frame), where the union is
+/// rounded to 32-bit floats and checked: a union may not add a crossing there. What cannot be
+/// united without one is split and its parts united, down to single segments; those are counted in
+/// `pieces_failed`.
+TreeMesh add_pieces(TreeMesh mesh, const std::vector<Skeleton>& pieces, const SweepOptions& options,
+                    const Eigen::Vector3d& frame, double floor_radius, SweepStats& st);
+
+}  // namespace treeskel::modeling::detail

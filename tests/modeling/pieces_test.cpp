@@ -1,0 +1,91 @@
+// The limbs swept apart and united with the tree (modeling/src/pieces.h, private to the library).
+#include "../../modeling/src/pieces.h"
+#include "model_fixtures.h"
+
+#include <gtest/gtest.h>
+
+namespace treeskel::modeling::detail {
+namespace {
+
+// test::y_shape(r, half_angle, 20): nodes 0..20 the trunk (20 the fork), 21..40 one arm, 41..60 the other.
+
+std::size_t tips(const Skeleton& s) {
+  std::size_t n = 0;
+  for (NodeId v = 0; v < s.node_count(); ++v) n += (v != s.root && boost::out_degree(v, s.graph) == 1);
+  return n;
+}
+
+TEST(Pieces, APathSplitsIntoTwoOverlappingHalves) {
+  const Skeleton path = test::straight(1.0, 0.1, 6);  // 7 nodes
+  const auto parts = split_piece(path);
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0].node_count(), 4u);  // nodes 0..3
+  EXPECT_EQ(parts[1].node_count(), 5u);  // nodes 2..6: they share the segment 2-3
+  EXPECT_EQ(parts[0][0].position, path[0].position);
+  EXPECT_EQ(parts[1][parts[1].node_count() - 1].position, path[6].position);
+  EXPECT_EQ(parts[1][0].position, path[2].position);
+}
+
+TEST(Pieces, ASingleSegmentCannotBeSplit) {
+  EXPECT_TRUE(split_piece(test::straight(1.0, 0.1, 1)).empty());
+}
+
+// A fork: each arm apart (from the fork, with a stub back along the trunk) and the trunk in halves.
+TEST(Pieces, AForkSplitsIntoItsArmsAndTheHalvesOfItsBase) {
+  const Skeleton y = test::y_shape(0.05, 0.6, 20);
+  const auto parts = split_piece(y);
+  ASSERT_EQ(parts.size(), 4u);
+  std::size_t arm_tips = 0;
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_TRUE(is_tree(parts[i].graph));
+    EXPECT_EQ(tips(parts[i]), 1u);
+    arm_tips += tips(parts[i]);
+    EXPECT_GE(parts[i].node_count(), 21u);  // the arm, its fork and the stub
+  }
+  EXPECT_EQ(arm_tips, 2u);
+  EXPECT_EQ(parts[2].node_count() + parts[3].node_count(), 21u + 2u);  // the trunk, two nodes shared
+}
+
+// Splitting goes on until single segments: every part is smaller than what it came from.
+TEST(Pieces, SplittingEnds) {
+  std::vector<Skeleton> todo{test::y_shape(0.05, 0.6, 20)};
+  std::size_t segments = 0, rounds = 0;
+  while (!todo.empty() && ++rounds < 10000) {
+    Skeleton s = std::move(todo.back());
+    todo.pop_back();
+    auto parts = split_piece(s);
+    if (parts.empty()) {
+      EXPECT_EQ(s.node_count(), 2u);
+      ++segments;
+    }
+    for (auto& p : parts) {
+      EXPECT_LT(p.node_count(), s.node_count());
+      todo.push_back(std::move(p));
+    }
+  }
+  EXPECT_TRUE(todo.empty());
+  EXPECT_GT(segments, 20u);
+}
+
+TEST(Pieces, FloatsOfTheFrame) {
+  TreeMesh m;
+  m.add_vertex(TreeMesh::Point(0.1, 0.2, 0.3));
+  const Eigen::Vector3d offset(500000.0, 0.0, 0.0);
+  const TreeMesh f = in_world_floats(m, offset);
+  ASSERT_EQ(f.n_vertices(), 1u);
+  const auto p = f.point(f.vertex_handle(0));
+  EXPECT_EQ(p[0], static_cast<double>(static_cast<float>(500000.1)));  // floats are 1/32 apart there
+  EXPECT_EQ(p[1], static_cast<double>(0.2f));
+}
+
+// Files hold the input's frame unless 32-bit floats would round it: a georeferenced tree is local.
+TEST(Pieces, FileFrameIsLocalOnlyWhereFloatsWouldRoundTheTree) {
+  Skeleton s = test::straight(10.0, 0.1, 10);
+  s.offset = Eigen::Vector3d(3.0, -2.0, 1.0);
+  EXPECT_EQ(file_frame(s), s.offset);
+  s.offset = Eigen::Vector3d(600000.0, 5200000.0, 300.0);
+  EXPECT_EQ(file_frame(s), Eigen::Vector3d::Zero());
+}
+
+}  // namespace
+}  // namespace treeskel::modeling::detail
