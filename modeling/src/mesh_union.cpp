@@ -23,6 +23,8 @@ namespace treeskel::modeling::detail {
 namespace {
 
 namespace PMP = CGAL::Polygon_mesh_processing;
+constexpr std::size_t kMaxGroup = 8;
+constexpr std::size_t kMaxCorefinements = 48;
 // Exact constructions: the points where two surfaces cross are kept exactly through every union (with
 // rounded ones, a union can cross itself and the next one fail); they are rounded once at the end.
 using K = CGAL::Exact_predicates_exact_constructions_kernel;
@@ -308,6 +310,17 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
   std::vector<Group> groups;
   std::vector<std::ptrdiff_t> group_of(pieces.size(), -1);
   std::vector<std::size_t> alone;  // pieces their group's union refused, united with the whole alone
+  // A budget: points made by one union and cut again by the next hold ever longer exact numbers,
+  // and a leafy crown whose twigs all cross one another made a group's unions run for minutes. A
+  // group takes at most kMaxGroup pieces (the others are united with the whole alone), and past
+  // kMaxCorefinements the pieces left are skipped (the caller leaves them out and says so).
+  std::size_t budget = kMaxCorefinements;
+  auto try_unite = [&](Surface& into, Surface piece) {
+    if (budget == 0) return false;
+    --budget;
+    ++out.batches;
+    return unite_into(into, std::move(piece));
+  };
   for (std::size_t i : usable) {
     auto& g = group_of[linked.find(i)];
     if (g < 0) {
@@ -316,8 +329,7 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
       continue;
     }
     auto& into = groups[static_cast<std::size_t>(g)];
-    ++out.batches;
-    if (unite_into(into.surface, surfaces[i])) into.members.push_back(i);
+    if (into.members.size() < kMaxGroup && try_unite(into.surface, surfaces[i])) into.members.push_back(i);
     else alone.push_back(i);
   }
   if (!groups.empty()) {
@@ -333,12 +345,13 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
     } else {
       // One group at a time, and the pieces of a group the whole refuses one at a time.
       for (const auto& g : groups) {
-        if (groups.size() > 1) {
-          ++out.batches;
-          if (unite_into(whole, g.surface)) {
-            out.united += g.members.size();
-            continue;
-          }
+        if (groups.size() > 1 && budget == 0) {
+          out.skipped += g.members.size();
+          continue;
+        }
+        if (groups.size() > 1 && try_unite(whole, g.surface)) {
+          out.united += g.members.size();
+          continue;
         }
         if (g.members.size() > 1) alone.insert(alone.end(), g.members.begin(), g.members.end());
         else keep_apart(g.surface, 1);
@@ -346,8 +359,8 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
     }
   }
   for (std::size_t i : alone) {
-    ++out.batches;
-    if (unite_into(whole, surfaces[i])) ++out.united;
+    if (budget == 0) ++out.skipped;
+    else if (try_unite(whole, surfaces[i])) ++out.united;
     else keep_apart(surfaces[i], 1);
   }
   whole.collect_garbage();

@@ -22,6 +22,12 @@ constexpr int kSliverRounds = 4;
 constexpr double kSliverEdges = 1000.0;
 /// Faces no taller than this (in weld distances) have no direction a collapse must keep.
 constexpr double kSliverHeight = 10.0;
+/// Most pieces swept, and most unions tried (retries included), for one tree: a leafy crown whose
+/// twigs cross one another everywhere can leave thousands of pieces, each failing its union; past
+/// these, what is left is left out and counted in `pieces_failed` (the summary warns) rather than
+/// taking minutes and gigabytes.
+constexpr std::size_t kMaxPieces = 2000;
+constexpr std::size_t kMaxUnions = 200;
 
 using Box = Eigen::AlignedBox3d;
 using Pairs = std::vector<std::pair<std::size_t, std::size_t>>;
@@ -149,6 +155,10 @@ class Uniter {
     while (!todo.empty()) {
       const Skeleton piece = std::move(todo.back());
       todo.pop_back();
+      if (++swept_ > kMaxPieces) {
+        ++st_.pieces_failed;
+        continue;
+      }
       SweepStats piece_stats;
       std::vector<Skeleton> apart;
       Skeleton kept;
@@ -171,6 +181,11 @@ class Uniter {
   /// `base` with `pieces` united into it, adding no crossing in the floats of the frame.
   TreeMesh unite(const TreeMesh& base, std::vector<Piece> pieces) {
     if (pieces.empty()) return base;
+    if (++unions_ > kMaxUnions) {
+      st_.pieces_failed += pieces.size();
+      st_.pieces -= std::min(st_.pieces, pieces.size());
+      return base;
+    }
     // Boxes grown by the longest edge a sliver collapse may remove.
     const double slack = kSliverEdges * o_.weld * extent_;
     std::vector<TreeMesh> meshes;
@@ -205,6 +220,8 @@ class Uniter {
       if (pairs.size() > before) return retry(base, std::move(pieces), mesh, pairs, boxes);
     }
     st_.welded_edges += welded;
+    st_.pieces_failed += united.skipped;
+    st_.pieces -= std::min(st_.pieces, united.skipped);
     st_.pieces_apart += united.failed;
     return mesh;
   }
@@ -248,6 +265,7 @@ class Uniter {
   Eigen::Vector3d frame_;
   double floor_;
   SweepStats& st_;
+  std::size_t swept_ = 0, unions_ = 0;
 };
 
 }  // namespace

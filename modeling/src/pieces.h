@@ -17,8 +17,8 @@ Eigen::Vector3d file_frame(const Skeleton& skeleton);
 
 /// `sweep_mesh` with the frame files hold and the floor radius given (a piece of a tree is checked
 /// in the tree's frame and keeps the tree's floor; a negative floor: `min_relative_radius` of the
-/// thickest radius or `min_extent_radius` of the extent, the larger). No branch is thinned below
-/// the floor; one that would be is swept apart.
+/// thickest radius or `min_extent_radius` of the extent, the larger). A branch the repair would
+/// thin below the floor (at its start) is swept apart instead.
 TreeMesh sweep_in_frame(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,
                         double floor_radius, SweepStats* stats);
 

@@ -868,8 +868,7 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
   for (int attempt_no = 0; attempt_no < max_attempts; ++attempt_no) {
     // The kept, scaled skeleton.
     Skeleton pruned = skeleton;  // positions, radii and edges only (see sweep_mesh)
-    // Thinning stops at the floor radius: thinner tubes fold into themselves once rounded to floats.
-    for (NodeId v = 0; v < n; ++v) pruned[v].radius = std::max(pruned[v].radius * scale[v], std::min(pruned[v].radius, floor_radius));
+    for (NodeId v = 0; v < n; ++v) pruned[v].radius *= scale[v];
     const auto new_id = compact_nodes(pruned, keep);
     std::vector<NodeId> old_id(boost::num_vertices(pruned.graph));
     for (NodeId v = 0; v < n; ++v)
@@ -910,7 +909,7 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
       const int budget = (limb && !is_base(top) ? 2 : 1) * options.max_shrinks;
       const double floor = std::pow(options.repair_shrink, budget);
       const bool at_floor = own_scale[top] <= floor * (1.0 + 1e-9);
-      // A branch thinned to the floor radius is swept apart too.
+      // A branch that would start thinner than the floor radius is swept apart too.
       const bool too_thin = g[top].radius * own_scale[top] * factor < floor_radius * (1.0 - 1e-9);
       if (own_scale[top] * factor < floor * (1.0 - 1e-9) || too_thin) {
         // A twig is swept apart at once; a limb is first thinned to its floor.

@@ -24,9 +24,7 @@ struct SweepOptions {
   double min_relative_radius = 1e-3;
   /// ... and below this share of the tree's extent (the largest side of its box): thinner tubes,
   /// once rounded to the 32-bit floats of mesh files, fold into themselves where they meet others.
-  /// (1e-4 made the leafy crown of arbor's tree, its twigs then thicker than the gaps between
-  /// them, cross itself everywhere: thousands of pieces, minutes and gigabytes to unite.)
-  double min_extent_radius = 1e-5;
+  double min_extent_radius = 1e-4;
   /// Along a branch a new ring is laid when the branch has run this many radii since the last one ...
   double ring_spacing = 0.75;
   /// ... or has turned by more than this (radians).
