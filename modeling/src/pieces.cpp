@@ -335,7 +335,6 @@ TreeMesh add_pieces(TreeMesh mesh, const std::vector<Skeleton>& pieces, const Sw
   Uniter uniter(options, bounding_box(mesh).sizes().maxCoeff(), frame, floor_radius, st);
   std::vector<Piece> swept;
   for (const auto& piece : pieces) uniter.sweep(piece, swept);
-  if (options.repair) st.float_crossings = self_intersecting_faces(in_world_floats(mesh, frame)).size();
   return uniter.unite(mesh, std::move(swept));
 }
 
