@@ -295,10 +295,8 @@ TreeMesh in_world_floats(const TreeMesh& mesh, const Eigen::Vector3d& offset) {
   TreeMesh out;
   std::vector<TreeMesh::VertexHandle> handle;
   for (auto v : mesh.vertices()) {
-    const auto p = mesh.point(v);
-    TreeMesh::Point q;
-    for (int a = 0; a < 3; ++a) q[a] = static_cast<double>(static_cast<float>(p[a] + offset[a]));
-    handle.push_back(out.add_vertex(q));
+    const Key w = world_key(mesh.point(v), offset);
+    handle.push_back(out.add_vertex(TreeMesh::Point(w[0], w[1], w[2])));
   }
   for (auto f : mesh.faces()) {
     std::array<TreeMesh::VertexHandle, 3> c;
