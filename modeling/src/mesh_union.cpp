@@ -5,6 +5,7 @@
 #include "treeskel/disjoint_sets.h"
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/boost/graph/graph_traits_TriMesh_ArrayKernelT.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
@@ -285,9 +286,10 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
   std::vector<Surface> surfaces(pieces.size());
   std::vector<std::size_t> usable;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
-    // Corefinement needs closed inputs free of self-intersections (CGAL may crash otherwise).
+    // Corefinement needs closed inputs free of self-intersections (CGAL may crash otherwise). The
+    // tests run on the pieces' own doubles (exact predicates decide them as the exact kernel would).
     append(surfaces[i], pieces[i]);
-    if (!CGAL::is_closed(surfaces[i]) || PMP::does_self_intersect(surfaces[i])) keep_apart(surfaces[i], 1);
+    if (!CGAL::is_closed(pieces[i]) || PMP::does_self_intersect(pieces[i])) keep_apart(surfaces[i], 1);
     else usable.push_back(i);
   }
   // A corefinement with the whole costs as much as the whole is large: the pieces that cross or hold
@@ -299,7 +301,7 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
     for (std::size_t b = a + 1; b < usable.size(); ++b) {
       const std::size_t i = usable[a], j = usable[b];
       if (linked.find(i) != linked.find(j) && boxes[i].intersects(boxes[j]) &&
-          PMP::do_intersect(surfaces[i], surfaces[j], CGAL::parameters::do_overlap_test_of_bounded_sides(true),
+          PMP::do_intersect(pieces[i], pieces[j], CGAL::parameters::do_overlap_test_of_bounded_sides(true),
                             CGAL::parameters::do_overlap_test_of_bounded_sides(true)))
         linked.unite(i, j);
     }

@@ -6,7 +6,9 @@
 #include "treeskel/skeleton.h"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
+#include <cstddef>
 #include <vector>
 
 namespace treeskel::modeling::detail {
@@ -32,9 +34,13 @@ TreeMesh sweep_part(const Skeleton& skeleton, const SweepOptions& options, const
 /// Adds to `to` the counts of `from` (a piece's sweep) that add up over pieces.
 void add_counts(SweepStats& to, const SweepStats& from);
 
-/// A copy of `mesh` (same vertex and face order) at the 32-bit floats its points become in the
-/// frame `offset` leads to.
-TreeMesh in_world_floats(const TreeMesh& mesh, const Eigen::Vector3d& offset);
+/// The points of `mesh` (by vertex index) as the 32-bit floats they become in the frame `offset`
+/// leads to, where a file holds them: where to place the vertices to test the mesh as read back.
+std::vector<TreeMesh::Point> world_floats(const TreeMesh& mesh, const Eigen::Vector3d& offset);
+
+/// Faces of `mesh` (indices, ascending) whose boxes meet one of `boxes`: where a union changed the
+/// mesh, the faces a crossing it added can involve.
+std::vector<std::size_t> faces_touching(const TreeMesh& mesh, const std::vector<Eigen::AlignedBox3d>& boxes);
 
 /// How a piece that cannot be swept or united whole is split: each branch leaving its base chain's
 /// end (or its root, when several leave it) apart, and the base chain in two overlapping halves.

@@ -983,7 +983,7 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
     }
     // Tested in the 32-bit floats of the frame files hold (where rounding can fold the needle-thin
     // faces of a twig's tip into each other), then in doubles (what OBJ holds).
-    auto pairs = self_intersecting_faces(detail::in_world_floats(*mesh, frame));
+    auto pairs = self_intersecting_faces_at(*mesh, detail::world_floats(*mesh, frame));
     st.float_crossings = pairs.size();
     if (pairs.empty()) pairs = self_intersecting_faces(*mesh);
     st.self_intersections = pairs.size();

@@ -6,6 +6,7 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
 #include <iterator>
+#include <stdexcept>
 #include <sstream>
 
 namespace treeskel::modeling {
@@ -28,11 +29,25 @@ std::string MeshCheck::problem() const {
 
 namespace {
 
-template <typename FaceRange>
-std::vector<std::pair<std::size_t, std::size_t>> crossing_pairs(const FaceRange& range, const TreeMesh& mesh) {
+/// A readable property map: a vertex's place, taken from a vector by the vertex's index.
+struct Places {
+  using key_type = TreeMesh::VertexHandle;
+  using value_type = CGAL::Epick::Point_3;
+  using reference = value_type;
+  using category = boost::readable_property_map_tag;
+  const std::vector<TreeMesh::Point>* places;
+  friend value_type get(const Places& m, key_type v) {
+    const auto& p = (*m.places)[static_cast<std::size_t>(v.idx())];
+    return {p[0], p[1], p[2]};
+  }
+};
+
+template <typename FaceRange, typename Parameters = CGAL::parameters::Default_named_parameters>
+std::vector<std::pair<std::size_t, std::size_t>> crossing_pairs(const FaceRange& range, const TreeMesh& mesh,
+                                                               const Parameters& np = CGAL::parameters::default_values()) {
   using Face = boost::graph_traits<TreeMesh>::face_descriptor;
   std::vector<std::pair<Face, Face>> pairs;
-  PMP::self_intersections<CGAL::Parallel_if_available_tag>(range, mesh, std::back_inserter(pairs));
+  PMP::self_intersections<CGAL::Parallel_if_available_tag>(range, mesh, std::back_inserter(pairs), np);
   std::vector<std::pair<std::size_t, std::size_t>> out;
   out.reserve(pairs.size());
   for (const auto& [a, b] : pairs) out.emplace_back(static_cast<std::size_t>(a.idx()), static_cast<std::size_t>(b.idx()));
@@ -51,6 +66,18 @@ std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces(const T
   range.reserve(among.size());
   for (std::size_t f : among) range.push_back(mesh.face_handle(static_cast<unsigned>(f)));
   return crossing_pairs(range, mesh);
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces_at(const TreeMesh& mesh,
+                                                                           const std::vector<TreeMesh::Point>& places,
+                                                                           const std::vector<std::size_t>* among) {
+  if (places.size() != mesh.n_vertices()) throw std::invalid_argument("self_intersecting_faces_at: one place per vertex");
+  const auto np = CGAL::parameters::vertex_point_map(Places{&places});
+  if (!among) return crossing_pairs(faces(mesh), mesh, np);
+  std::vector<TreeMesh::FaceHandle> range;
+  range.reserve(among->size());
+  for (std::size_t f : *among) range.push_back(mesh.face_handle(static_cast<unsigned>(f)));
+  return crossing_pairs(range, mesh, np);
 }
 
 MeshCheck check_mesh(const TreeMesh& mesh, bool self_intersections) {

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
+
 namespace treeskel::modeling::detail {
 namespace {
 
@@ -67,13 +70,51 @@ TEST(Pieces, SplittingEnds) {
   EXPECT_GT(segments, 20u);
 }
 
+// faces_touching hashes the boxes into a grid (boxes over many cells kept aside): it must find what
+// testing every face against every box finds, for small, flat, large and no boxes.
+TEST(Pieces, FacesTouchingBoxesAsTestingEachPair) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> at(0.0, 10.0), step(-0.3, 0.3);
+  TreeMesh m;
+  for (int i = 0; i < 400; ++i) {
+    const TreeMesh::Point o(at(rng), at(rng), at(rng));
+    const auto a = m.add_vertex(o), b = m.add_vertex(o + TreeMesh::Point(step(rng), step(rng), step(rng))),
+               c = m.add_vertex(o + TreeMesh::Point(step(rng), step(rng), step(rng)));
+    m.add_face(a, b, c);
+  }
+  auto box = [](Eigen::Vector3d lo, Eigen::Vector3d size) { return Eigen::AlignedBox3d(lo, lo + size); };
+  std::vector<Eigen::AlignedBox3d> boxes;
+  std::uniform_real_distribution<double> side(0.0, 0.5);
+  for (int i = 0; i < 30; ++i)
+    boxes.push_back(box({at(rng), at(rng), at(rng)}, {side(rng), side(rng), side(rng)}));
+  boxes.push_back(box({at(rng), at(rng), 5.0}, {0.4, 0.4, 0.0}));  // flat
+  auto brute = [&](const std::vector<Eigen::AlignedBox3d>& bs) {
+    std::vector<std::size_t> out;
+    for (auto f : m.faces()) {
+      Eigen::AlignedBox3d fb;
+      for (auto v : m.fv_range(f)) fb.extend(Eigen::Vector3d(m.point(v)[0], m.point(v)[1], m.point(v)[2]));
+      if (std::any_of(bs.begin(), bs.end(), [&](const auto& b) { return b.intersects(fb); }))
+        out.push_back(static_cast<std::size_t>(f.idx()));
+    }
+    return out;
+  };
+  const auto small = faces_touching(m, boxes);
+  EXPECT_FALSE(small.empty());
+  EXPECT_EQ(small, brute(boxes));
+  boxes.push_back(box({2.0, 0.0, 0.0}, {3.0, 10.0, 10.0}));  // over many cells: kept aside
+  const auto large = faces_touching(m, boxes);
+  EXPECT_GT(large.size(), small.size());
+  EXPECT_EQ(large, brute(boxes));
+  EXPECT_TRUE(faces_touching(m, {}).empty());
+}
+
 TEST(Pieces, FloatsOfTheFrame) {
   TreeMesh m;
   m.add_vertex(TreeMesh::Point(0.1, 0.2, 0.3));
   const Eigen::Vector3d offset(500000.0, 0.0, 0.0);
-  const TreeMesh f = in_world_floats(m, offset);
-  ASSERT_EQ(f.n_vertices(), 1u);
-  const auto p = f.point(f.vertex_handle(0));
+  const auto f = world_floats(m, offset);
+  ASSERT_EQ(f.size(), 1u);
+  const auto p = f[0];
   EXPECT_EQ(p[0], static_cast<double>(static_cast<float>(500000.1)));  // floats are 1/32 apart there
   EXPECT_EQ(p[1], static_cast<double>(0.2f));
 }

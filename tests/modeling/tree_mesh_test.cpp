@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numeric>
+#include <stdexcept>
 
 namespace treeskel::modeling {
 namespace {
@@ -84,6 +86,30 @@ TEST(CheckMesh, SelfIntersectionsAmongSomeFaces) {
   EXPECT_TRUE(self_intersecting_faces(m, {0, 1, 2, 3, 8, 9, 10, 11}).empty());  // one of the crossing two
   EXPECT_EQ(self_intersecting_faces(m, {0, 1, 2, 3, 4, 5, 6, 7}), all);
   EXPECT_TRUE(self_intersecting_faces(m, {}).empty());
+}
+
+// The test can place the vertices elsewhere than the mesh holds them (at the floats a file rounds
+// them to): the third tetrahedron moved onto the first crosses it; the first two moved apart do not.
+TEST(CheckMesh, SelfIntersectionsWithTheVerticesPlacedElsewhere) {
+  TreeMesh m;
+  add_tetrahedron(m, P(0, 0, 0));
+  add_tetrahedron(m, P(0.2, 0.2, 0.2));
+  add_tetrahedron(m, P(5, 0, 0));
+  std::vector<TreeMesh::Point> places;
+  for (auto v : m.vertices()) places.push_back(m.point(v));
+  EXPECT_EQ(self_intersecting_faces_at(m, places), self_intersecting_faces(m));
+  for (std::size_t v = 4; v < 8; ++v) places[v] += P(10, 0, 0);   // the second, away from all
+  for (std::size_t v = 8; v < 12; ++v) places[v] -= P(4.8, 0, 0);  // the third, onto the first
+  const auto moved = self_intersecting_faces_at(m, places);
+  ASSERT_FALSE(moved.empty());
+  for (const auto& [a, b] : moved) {
+    EXPECT_LT(std::min(a, b), 4u);
+    EXPECT_GE(std::max(a, b), 8u);
+  }
+  const std::vector<std::size_t> first_two{0, 1, 2, 3, 4, 5, 6, 7};
+  EXPECT_TRUE(self_intersecting_faces_at(m, places, &first_two).empty());
+  places.pop_back();
+  EXPECT_THROW(self_intersecting_faces_at(m, places), std::invalid_argument);
 }
 
 TEST(CheckMesh, EmptyMeshIsAProblem) {

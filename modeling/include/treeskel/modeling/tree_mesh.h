@@ -52,4 +52,11 @@ std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces(const T
 std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces(const TreeMesh& mesh,
                                                                         const std::vector<std::size_t>& among);
 
+/// The same with the vertices placed at `places` (by vertex index) instead of their points, among
+/// the faces `among` if given: for example at the 32-bit floats a file rounds them to, without
+/// copying the mesh.
+std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces_at(const TreeMesh& mesh,
+                                                                           const std::vector<TreeMesh::Point>& places,
+                                                                           const std::vector<std::size_t>* among = nullptr);
+
 }  // namespace treeskel::modeling
