@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
+#include <tuple>
 
 namespace treeskel::modeling {
 
@@ -131,21 +133,47 @@ bool is_reliable(const CircleFit& fit, const RadiusOptions& options) {
   return fit.radius > 0.0 && fit.rms <= options.max_residual * fit.radius && fit.coverage >= options.min_coverage;
 }
 
+namespace {
+
+/// The places of `points` in their order, each place once: points repeated at the very same place
+/// (merged scans, a file written twice) count once, so that ten copies of three points are not
+/// thirty points a circle may be fitted to.
+std::vector<Eigen::Vector3d> distinct_places(const PointCloud& cloud, const std::vector<std::uint32_t>& points) {
+  for (auto p : points)
+    TREESKEL_REQUIRE(p < cloud.size(), "a skeleton node lists a point the cloud does not have");
+  std::vector<std::size_t> order(points.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  auto at = [&](std::size_t i) -> const Eigen::Vector3d& { return cloud.positions[points[i]]; };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::tie(at(a).x(), at(a).y(), at(a).z(), a) < std::tie(at(b).x(), at(b).y(), at(b).z(), b);
+  });
+  std::vector<bool> repeat(points.size(), false);
+  for (std::size_t k = 1; k < order.size(); ++k) repeat[order[k]] = at(order[k]) == at(order[k - 1]);
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!repeat[i]) out.push_back(at(i));
+  return out;
+}
+
+}  // namespace
+
 RadiusMeasurement measure_node_radius(const Skeleton& skeleton, const PointCloud& cloud, NodeId v,
                                       const RadiusOptions& options) {
   const auto& g = skeleton.graph;
   const auto& node = g[v];
   const std::size_t min_points = std::max<std::size_t>(options.min_points, 3);
   if (node.points.size() < min_points || boost::degree(v, g) > 2) return {};
+  const std::vector<Eigen::Vector3d> places = distinct_places(cloud, node.points);
+  if (places.size() < min_points) return {};
   const Eigen::Vector3d axis = branch_direction(skeleton, v);
   if (axis.isZero()) return {};
   const Eigen::Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
-  const std::size_t stride = (node.points.size() + kMaxFitPoints - 1) / kMaxFitPoints;
+  const std::size_t stride = (places.size() + kMaxFitPoints - 1) / kMaxFitPoints;
   std::vector<Eigen::Vector2d> q;
-  q.reserve(node.points.size() / stride + 1);
-  for (std::size_t i = 0; i < node.points.size(); i += stride) {
-    TREESKEL_REQUIRE(node.points[i] < cloud.size(), "a skeleton node lists a point the cloud does not have");
-    const Eigen::Vector3d d = cloud.positions[node.points[i]] - node.position;
+  q.reserve(places.size() / stride + 1);
+  for (std::size_t i = 0; i < places.size(); i += stride) {
+    const Eigen::Vector3d d = places[i] - node.position;
     q.emplace_back(d.dot(u), d.dot(w));
   }
   const CircleFit fit = fit_circle(q);

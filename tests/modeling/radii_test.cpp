@@ -77,6 +77,42 @@ TEST(MeasureNodeRadii, CircleFitRecoversAHalfScannedBranch) {
   }
 }
 
+// A point repeated at the very same place counts once: every point written ten times measures
+// as the points once; a node with five places repeated ten times has five points, too few to fit.
+TEST(MeasureNodeRadii, RepeatedPointsCountOnce) {
+  PointCloud cloud;
+  Skeleton s;
+  for (int i = 0; i < 3; ++i) {
+    SkeletonNode node;
+    node.position = Eigen::Vector3d(0.0, 0.0, 0.1 * i);
+    const NodeId v = add_node(s, node);
+    if (i > 0) boost::add_edge(v - 1, v, s.graph);
+  }
+  for (int k = 0; k < 12; ++k) {
+    const double a = 0.5 * k;
+    cloud.positions.emplace_back(0.2 * std::cos(a), 0.2 * std::sin(a), 0.1 + 0.001 * k);
+  }
+  for (std::uint32_t i = 0; i < 12; ++i) s[1].points.push_back(i);
+  const RadiusMeasurement once = measure_node_radius(s, cloud, 1);
+  EXPECT_NEAR(once.radius, 0.2, 1e-3);
+  Skeleton repeated = s;
+  PointCloud ten = cloud;
+  for (int copy = 1; copy < 10; ++copy)
+    for (std::uint32_t i = 0; i < 12; ++i) {
+      repeated[1].points.push_back(static_cast<std::uint32_t>(ten.size()));
+      ten.positions.push_back(cloud.positions[i]);
+    }
+  const RadiusMeasurement tenfold = measure_node_radius(repeated, ten, 1);
+  EXPECT_EQ(tenfold.radius, once.radius);
+  EXPECT_EQ(tenfold.weight, once.weight);
+  // Five places, each ten times: fifty indices, five points (the default needs eight).
+  Skeleton few = s;
+  few[1].points.clear();
+  for (int copy = 0; copy < 10; ++copy)
+    for (std::uint32_t i = 0; i < 5; ++i) few[1].points.push_back(i + 12u * static_cast<std::uint32_t>(copy));
+  EXPECT_EQ(measure_node_radius(few, ten, 1).radius, 0.0);
+}
+
 TEST(FitRadii, LeonardoAtEveryForkAndNoGrowthTowardTheTips) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> jitter(0.7, 1.3);
