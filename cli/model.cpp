@@ -143,6 +143,7 @@ int run(Settings& s) {
   Eigen::Vector3d up = parse_up(s.method.up);
   if (from_skeleton) {
     skeleton = io::read_skeleton(s.input);
+    recentre_offset(skeleton);  // swept in small numbers, written back in the input's frame
     // A skeleton saved by `skeletonize` has radii only where the method measured them (0 elsewhere):
     // the pipe model fills in the rest from the positive ones when the radii are fitted below.
     std::size_t missing = 0;

@@ -1,5 +1,7 @@
 #include "treeskel/skeleton.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <deque>
 
@@ -7,6 +9,15 @@ namespace treeskel {
 
 NodeId add_node(Skeleton& skeleton, const SkeletonNode& node) {
   return boost::add_vertex(node, skeleton.graph);
+}
+
+void recentre_offset(Skeleton& skeleton) {
+  if (skeleton.node_count() == 0) return;
+  Eigen::AlignedBox3d box;
+  for (NodeId v = 0; v < skeleton.node_count(); ++v) box.extend(skeleton[v].position);
+  const Eigen::Vector3d shift = box.min();
+  for (NodeId v = 0; v < skeleton.node_count(); ++v) skeleton[v].position -= shift;
+  skeleton.offset += shift;
 }
 
 std::size_t count_branch_points(const SkeletonGraph& graph) {

@@ -1,5 +1,7 @@
 #include "tube.h"
 
+#include "treeskel/error.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -66,6 +68,7 @@ Polyline make_polyline(const std::vector<Vector3d>& points, const std::vector<do
 
 Ring ring_at(const Polyline& pl, double s, int sides) {
   const std::size_t n = pl.p.size();
+  TREESKEL_REQUIRE(n >= 2, "a branch of no length has no ring");
   s = std::clamp(s, 0.0, pl.length());
   std::size_t i = static_cast<std::size_t>(std::upper_bound(pl.s.begin(), pl.s.end(), s) - pl.s.begin());
   i = i == 0 ? 0 : i - 1;

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 namespace treeskel {
 namespace {
@@ -259,6 +260,37 @@ TEST(Cli, ModelFormatsAndBadUse) {
   EXPECT_EQ(zero.code, 0) << zero.out;
   EXPECT_NE(zero.out.find("the pipe model fills them in"), std::string::npos) << zero.out;
   EXPECT_TRUE(fs::exists(dir.path("zero.glb")));
+  // A skeleton at georeferenced coordinates is swept in its local frame: twigs a few millimetres
+  // long at UTM coordinates (where a millimetre is a billionth of the coordinates) are meshed, and
+  // the OBJ is in the input's frame.
+  {
+    std::ofstream out(dir.path("utm.json"));
+    out << R"({"format":"treeskel skeleton","version":1,"root":0,"nodes":[)"
+        << R"({"id":0,"position":[600000.5,5200000.5,100],"radius":0.05},)"
+        << R"({"id":1,"position":[600000.5,5200000.5,101],"radius":0.03},)"
+        << R"({"id":2,"position":[600000.5,5200000.5,102],"radius":0.0015},)"
+        << R"({"id":3,"position":[600000.502,5200000.5,102.003],"radius":0.001},)"
+        << R"({"id":4,"position":[600000.498,5200000.5,102.003],"radius":0.001}],)"
+        << R"("edges":[[0,1],[1,2],[2,3],[2,4]]})";
+  }
+  const Result utm = run("model utm.json -o utm.obj", dir.root());
+  ASSERT_EQ(utm.code, 0) << utm.out;
+  {
+    std::ifstream in(dir.path("utm.obj"));
+    std::string tag;
+    double x = 0, y = 0, z = 0;
+    std::size_t vertices = 0;
+    for (std::string line; std::getline(in, line);) {
+      std::istringstream fields(line);
+      if (!(fields >> tag >> x >> y >> z) || tag != "v") continue;
+      ++vertices;
+      EXPECT_NEAR(x, 600000.5, 0.1);
+      EXPECT_NEAR(y, 5200000.5, 0.1);
+      EXPECT_GT(z, 99.9);
+      EXPECT_LT(z, 102.1);
+    }
+    EXPECT_GT(vertices, 20u);
+  }
   // A negative radius, an empty skeleton and one with a cycle are refused; nothing is written.
   {
     std::ofstream out(dir.path("negative.json"));

@@ -1,5 +1,6 @@
 // The sweep's tube geometry (modeling/src/tube.h, private to the library), alone.
 #include "../../modeling/src/tube.h"
+#include "treeskel/error.h"
 
 #include <gtest/gtest.h>
 
@@ -66,6 +67,10 @@ TEST(Tube, RingAtInterpolatesAndClamps) {
   EXPECT_TRUE(before.centre.isApprox(Vector3d(0, 0, 0)));
   EXPECT_TRUE(after.centre.isApprox(Vector3d(1, 0, 1)));
   EXPECT_TRUE(after.normal.isApprox(Vector3d(1, 0, 0), 1e-12));
+  // Points that all merge leave one point: no ring (an error, which the sweep can act on).
+  const Polyline point = make_polyline({{5, 5, 5}, {5, 5, 5 + 1e-12}}, {0.1, 0.1}, 1e-9);
+  ASSERT_EQ(point.p.size(), 1u);
+  EXPECT_THROW(ring_at(point, 0.0, 8), Error);
 }
 
 TEST(Tube, CompatibleRingsLieAheadOfOneAnother) {

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
+#include <vector>
+
 namespace treeskel {
 namespace {
 
@@ -19,6 +23,26 @@ Skeleton small_tree() {
   boost::add_edge(1, 3, s.graph);
   boost::add_edge(3, 4, s.graph);
   return s;
+}
+
+TEST(Skeleton, RecentreOffsetKeepsTheWorldPositions) {
+  Skeleton s = small_tree();
+  s.offset = Eigen::Vector3d(600000.0, 5200000.0, 100.0);
+  s[2].position.y() = -3.0;
+  s[4].position.z() = 2.0;
+  std::vector<Eigen::Vector3d> world;
+  for (NodeId v = 0; v < s.node_count(); ++v) world.push_back(s[v].position + s.offset);
+  recentre_offset(s);
+  EXPECT_EQ(s.offset, Eigen::Vector3d(600000.0, 5199997.0, 100.0));
+  Eigen::AlignedBox3d box;
+  for (NodeId v = 0; v < s.node_count(); ++v) {
+    EXPECT_EQ(s[v].position + s.offset, world[v]) << v;
+    box.extend(s[v].position);
+  }
+  EXPECT_EQ(box.min(), Eigen::Vector3d::Zero());
+  Skeleton empty;
+  recentre_offset(empty);
+  EXPECT_EQ(empty.offset, Eigen::Vector3d::Zero());
 }
 
 TEST(Skeleton, CountsBranchPointsAndEndpoints) {

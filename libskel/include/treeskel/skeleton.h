@@ -54,6 +54,11 @@ struct Skeleton {
 /// Adds a node and returns its id.
 NodeId add_node(Skeleton& skeleton, const SkeletonNode& node);
 
+/// Moves the skeleton's local frame so that the box of its nodes starts at the origin: the positions
+/// lose the box's minimum corner and `offset` gains it (world positions are unchanged). A skeleton
+/// read at georeferenced coordinates is then swept in small numbers, as a cloud's is.
+void recentre_offset(Skeleton& skeleton);
+
 /// Number of nodes of degree >= 3 (the paper's bifurcation points).
 std::size_t count_branch_points(const SkeletonGraph& graph);
 /// Number of nodes of degree 1 (the paper's twig endpoints). A lone node counts as no endpoint.
