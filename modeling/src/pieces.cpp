@@ -176,6 +176,11 @@ class Uniter {
       try {
         TreeMesh mesh = sweep_part(piece, o_, frame_, floor_, piece_stats, apart, &kept);
         if (o_.repair && piece_stats.self_intersections > 0) throw Error("the piece crosses itself");
+        // A sweep that kept no segment, or left apart a piece as large as this one, made no
+        // progress (the loop would sweep the same piece again and again): split it instead.
+        if (kept.node_count() < 2 ||
+            std::any_of(apart.begin(), apart.end(), [&](const Skeleton& a) { return a.node_count() >= piece.node_count(); }))
+          throw Error("the piece's sweep left it apart whole");
         out.push_back({std::move(kept), std::move(mesh)});
         add_counts(st_, piece_stats);
         ++st_.pieces;
