@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <array>
 #include <map>
 #include <memory>
 #include <ostream>
@@ -204,6 +205,33 @@ void write_obj(const fs::path& path, const modeling::TreeMesh& mesh, const Eigen
   });
 }
 
+/// Readers built on assimp 5.2 (Debian's) skip a line end right after a binary PLY's header
+/// (assimp issue 5341): when the first byte of the data, the lowest byte of the first vertex's x,
+/// is '\n', '\r', '\f' or '\0', every value is read one byte off. One file in about 60 had it. A
+/// vertex whose first byte is safe is moved to the front (the faces follow it): the same mesh.
+void put_a_safe_vertex_first(aiMesh& m) {
+  auto first_byte = [&](unsigned v) {
+    unsigned char bytes[sizeof(ai_real)];
+    std::memcpy(bytes, &m.mVertices[v].x, sizeof(ai_real));
+    return bytes[0];  // PLY binary little-endian, as assimp writes it on this platform
+  };
+  auto unsafe = [&](unsigned v) {
+    const unsigned char b = first_byte(v);
+    return b == '\n' || b == '\r' || b == '\f' || b == '\0';
+  };
+  if (m.mNumVertices == 0 || !unsafe(0)) return;
+  unsigned k = 1;
+  while (k < m.mNumVertices && unsafe(k)) ++k;
+  if (k == m.mNumVertices) return;  // every vertex is unsafe: nothing to choose
+  std::swap(m.mVertices[0], m.mVertices[k]);
+  if (m.mNormals) std::swap(m.mNormals[0], m.mNormals[k]);
+  for (unsigned f = 0; f < m.mNumFaces; ++f)
+    for (unsigned i = 0; i < m.mFaces[f].mNumIndices; ++i) {
+      unsigned& v = m.mFaces[f].mIndices[i];
+      v = v == 0 ? k : v == k ? 0 : v;
+    }
+}
+
 /// Sets the translation of the root node of a glTF document (JSON) to `t`, in double precision
 /// (assimp holds node transforms in 32-bit floats, which would round a georeferenced offset).
 void set_root_translation(nlohmann::json& doc, const Eigen::Vector3d& t) {
@@ -300,6 +328,7 @@ MeshPlacement write_mesh(const fs::path& path, const modeling::TreeMesh& mesh, c
   const Eigen::Matrix3d rotation = gltf ? y_up_rotation(frame.up) : Eigen::Matrix3d::Identity();
   placed.y_up_rotation = gltf && !rotation.isIdentity();
   const auto scene = make_scene(mesh, shift, skeleton, skeleton_shift, rotation);
+  if (ext == "ply") put_a_safe_vertex_first(*scene->mMeshes[0]);
   // assimp names side files (the .bin of a .gltf) after the main file: all of them are exported into
   // memory, then written atomically beside the target, the main file last so that it never refers
   // to a side file not there yet.
@@ -325,18 +354,22 @@ MeshPlacement write_mesh(const fs::path& path, const modeling::TreeMesh& mesh, c
 
 modeling::TreeMesh read_mesh(const fs::path& path) {
   Assimp::Importer importer;
-  // Normals (per face in STL) would keep copies of a position apart: drop them, then join.
-  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TEXCOORDS | aiComponent_COLORS);
-  const aiScene* scene =
-      importer.ReadFile(path.string(), aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices);
+  // Copies of a position (STL keeps one per face) are joined here, by their exact coordinates, not
+  // by assimp's JoinIdenticalVertices: that step (assimp 5.2) crashed on a valid binary PLY of ours.
+  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_PreTransformVertices);
   if (scene == nullptr) throw InputError(path.string() + ": " + importer.GetErrorString());
   modeling::TreeMesh mesh;
+  std::map<std::array<ai_real, 3>, modeling::TreeMesh::VertexHandle> at;
   for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
     const aiMesh* m = scene->mMeshes[i];
     if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
     std::vector<modeling::TreeMesh::VertexHandle> handles;
-    for (unsigned v = 0; v < m->mNumVertices; ++v)
-      handles.push_back(mesh.add_vertex(modeling::TreeMesh::Point(m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z)));
+    for (unsigned v = 0; v < m->mNumVertices; ++v) {
+      const aiVector3D& p = m->mVertices[v];
+      auto [it, fresh] = at.emplace(std::array<ai_real, 3>{p.x, p.y, p.z}, modeling::TreeMesh::VertexHandle());
+      if (fresh) it->second = mesh.add_vertex(modeling::TreeMesh::Point(p.x, p.y, p.z));
+      handles.push_back(it->second);
+    }
     for (unsigned f = 0; f < m->mNumFaces; ++f) {
       const aiFace& face = m->mFaces[f];
       if (face.mNumIndices != 3) continue;
