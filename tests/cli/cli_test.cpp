@@ -291,6 +291,27 @@ TEST(Cli, ModelFormatsAndBadUse) {
     }
     EXPECT_GT(vertices, 20u);
   }
+  // Three branches along the same line count three times in the wood volume (their frustums) and
+  // once in the mesh: the summary warns that the model holds much less than the volume it reports;
+  // a single straight branch does not.
+  {
+    std::ofstream out(dir.path("overlap.json"));
+    out << R"({"format":"treeskel skeleton","version":1,"root":0,"nodes":[)"
+        << R"({"id":0,"position":[0,0,0],"radius":0.1},{"id":1,"position":[0,0,1],"radius":0.1},)"
+        << R"({"id":2,"position":[0,0,4],"radius":0.0577},{"id":3,"position":[0.001,0,4],"radius":0.0577},)"
+        << R"({"id":4,"position":[0,0.001,4],"radius":0.0577}],"edges":[[0,1],[1,2],[1,3],[1,4]]})";
+  }
+  const Result overlap = run("model overlap.json -o overlap.glb --report overlap_report.json", dir.root());
+  ASSERT_EQ(overlap.code, 0) << overlap.out;
+  EXPECT_NE(overlap.out.find("of the wood volume reported"), std::string::npos) << overlap.out;
+  {
+    std::ifstream in(dir.path("overlap_report.json"));
+    const auto report = nlohmann::json::parse(in);
+    bool listed = false;
+    for (const auto& w : report.at("warnings")) listed = listed || w.get<std::string>().find("of the wood volume reported") != std::string::npos;
+    EXPECT_TRUE(listed);
+  }
+  EXPECT_EQ(zero.out.find("of the wood volume reported"), std::string::npos) << zero.out;
   // A negative radius, an empty skeleton and one with a cycle are refused; nothing is written.
   {
     std::ofstream out(dir.path("negative.json"));
