@@ -130,12 +130,18 @@ class BoxGrid {
   static constexpr double kMaxCells = 64;
   using Cell = std::array<std::int64_t, 3>;
   struct CellHash {
-    std::size_t operator()(const Cell& c) const {
-      return static_cast<std::size_t>(c[0] * 73856093 ^ c[1] * 19349663 ^ c[2] * 83492791);
+    std::size_t operator()(const Cell& c) const {  // unsigned: wraps, where signed would overflow
+      const auto u = [](std::int64_t x) { return static_cast<std::uint64_t>(x); };
+      return static_cast<std::size_t>(u(c[0]) * 73856093u ^ u(c[1]) * 19349663u ^ u(c[2]) * 83492791u);
     }
   };
+  /// The cells a box covers, from its lowest to its highest (clamped far inside what int64 holds).
   std::pair<Eigen::Array<std::int64_t, 3, 1>, Eigen::Array<std::int64_t, 3, 1>> cells(const Box& b) const {
-    return {(b.min().array() / cell_).floor().cast<std::int64_t>(), (b.max().array() / cell_).floor().cast<std::int64_t>()};
+    constexpr double kFar = 1e15;
+    auto cell = [&](const Eigen::Vector3d& p) {
+      return (p.array() / cell_).floor().max(-kFar).min(kFar).cast<std::int64_t>().eval();
+    };
+    return {cell(b.min()), cell(b.max())};
   }
   const std::vector<Box>& boxes_;
   double cell_ = 1.0;
