@@ -207,7 +207,8 @@ void write_obj(const fs::path& path, const modeling::TreeMesh& mesh, const Eigen
 
 /// Readers built on assimp 5.2 (Debian's) skip a line end right after a binary PLY's header
 /// (assimp issue 5341): when the first byte of the data, the lowest byte of the first vertex's x,
-/// is '\n', '\r', '\f' or '\0', every value is read one byte off. One file in about 60 had it. A
+/// is '\n', '\r', '\f' or '\0', every value is read one byte off (one of the 72 synthetic
+/// trees' models; a chance of about 1 in 64). A
 /// vertex whose first byte is safe is moved to the front (the faces follow it): the same mesh.
 void put_a_safe_vertex_first(aiMesh& m) {
   auto first_byte = [&](unsigned v) {
