@@ -54,6 +54,14 @@ std::vector<std::pair<std::size_t, std::size_t>> crossing_pairs(const FaceRange&
   return out;
 }
 
+/// The faces of `mesh` with the indices `among`.
+std::vector<TreeMesh::FaceHandle> face_handles(const TreeMesh& mesh, const std::vector<std::size_t>& among) {
+  std::vector<TreeMesh::FaceHandle> out;
+  out.reserve(among.size());
+  for (std::size_t f : among) out.push_back(mesh.face_handle(static_cast<unsigned>(f)));
+  return out;
+}
+
 }  // namespace
 
 std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces(const TreeMesh& mesh) {
@@ -62,10 +70,7 @@ std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces(const T
 
 std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces(const TreeMesh& mesh,
                                                                         const std::vector<std::size_t>& among) {
-  std::vector<TreeMesh::FaceHandle> range;
-  range.reserve(among.size());
-  for (std::size_t f : among) range.push_back(mesh.face_handle(static_cast<unsigned>(f)));
-  return crossing_pairs(range, mesh);
+  return crossing_pairs(face_handles(mesh, among), mesh);
 }
 
 std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces_at(const TreeMesh& mesh,
@@ -74,10 +79,7 @@ std::vector<std::pair<std::size_t, std::size_t>> self_intersecting_faces_at(cons
   if (places.size() != mesh.n_vertices()) throw std::invalid_argument("self_intersecting_faces_at: one place per vertex");
   const auto np = CGAL::parameters::vertex_point_map(Places{&places});
   if (!among) return crossing_pairs(faces(mesh), mesh, np);
-  std::vector<TreeMesh::FaceHandle> range;
-  range.reserve(among->size());
-  for (std::size_t f : *among) range.push_back(mesh.face_handle(static_cast<unsigned>(f)));
-  return crossing_pairs(range, mesh, np);
+  return crossing_pairs(face_handles(mesh, *among), mesh, np);
 }
 
 MeshCheck check_mesh(const TreeMesh& mesh, bool self_intersections) {
