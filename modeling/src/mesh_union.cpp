@@ -88,7 +88,7 @@ TreeMesh to_tree_mesh(const Surface& s, const Eigen::Vector3d& offset) {
     const Eigen::Vector3d exact(coordinate(p.x()), coordinate(p.y()), coordinate(p.z()));
     std::array<double, 3> q;
     for (int a = 0; a < 3; ++a)
-      q[static_cast<std::size_t>(a)] = static_cast<double>(static_cast<float>(exact[a] + offset[a])) - offset[a];
+      q[static_cast<std::size_t>(a)] = file_float(exact[a], offset[a]) - offset[a];
     points.push_back(q);
     ids.push_back(v);
   }

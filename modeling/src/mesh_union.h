@@ -21,6 +21,10 @@ struct UnionResult {
   std::size_t welded = 0;        ///< edges shorter than the weld distance, collapsed
 };
 
+/// A local coordinate as the 32-bit float a file holds in the frame `offset` leads to (local +
+/// offset), as a double: where the union and its checks round the points.
+inline double file_float(double local, double offset) { return static_cast<double>(static_cast<float>(local + offset)); }
+
 /// The box of the points of `mesh`.
 Eigen::AlignedBox3d bounding_box(const TreeMesh& mesh);
 

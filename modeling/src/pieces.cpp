@@ -59,7 +59,7 @@ struct KeyHash {
 /// A point as the 32-bit floats of the frame `offset` leads to hold it.
 Key world_key(const TreeMesh::Point& p, const Eigen::Vector3d& offset) {
   Key k;
-  for (int a = 0; a < 3; ++a) k[static_cast<std::size_t>(a)] = static_cast<double>(static_cast<float>(p[a] + offset[a]));
+  for (int a = 0; a < 3; ++a) k[static_cast<std::size_t>(a)] = file_float(p[a], offset[a]);
   return k;
 }
 
