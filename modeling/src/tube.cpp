@@ -35,6 +35,28 @@ Polyline make_polyline(const std::vector<Vector3d>& points, const std::vector<do
     pl.p.push_back(points[i]);
     pl.r.push_back(radii[i]);
   }
+  // A skeleton that wanders inside its own branch (the medians of a thick trunk zigzagging across it,
+  // or stepping down and up again) gives a tube through itself: a point closer than kStepRadii
+  // radii to the last point kept is dropped, and so is the last point kept when the end is that
+  // close to it (never the ends themselves).
+  if (pl.p.size() > 2) {
+    Polyline walked;
+    walked.p.push_back(pl.p.front());
+    walked.r.push_back(pl.r.front());
+    for (std::size_t i = 1; i + 1 < pl.p.size(); ++i)
+      if ((pl.p[i] - walked.p.back()).norm() >= kStepRadii * std::max(pl.r[i], walked.r.back())) {
+        walked.p.push_back(pl.p[i]);
+        walked.r.push_back(pl.r[i]);
+      }
+    if (walked.p.size() > 1 && (pl.p.back() - walked.p.back()).norm() < kStepRadii * std::max(pl.r.back(), walked.r.back())) {
+      walked.p.pop_back();
+      walked.r.pop_back();
+    }
+    walked.p.push_back(pl.p.back());
+    walked.r.push_back(pl.r.back());
+    pl.p = std::move(walked.p);
+    pl.r = std::move(walked.r);
+  }
   // A polyline that doubles back on itself would give a tube through itself at any radius: points
   // where it turns by more than 120 degrees are dropped (never the ends).
   for (bool changed = true; changed && pl.p.size() > 2;) {

@@ -37,8 +37,13 @@ struct Ring {
 /// `u` (across `from`) carried to be across `to` by the rotation that turns `from` into `to`.
 Eigen::Vector3d transport(const Eigen::Vector3d& u, const Eigen::Vector3d& from, const Eigen::Vector3d& to);
 
+/// Points of a branch's polyline are kept at least this many radii apart (the larger of the two
+/// points' radii), the ends always.
+constexpr double kStepRadii = 1.0;
+
 /// The polyline through `points` with their radii: points within `eps` of the previous one are merged
-/// (the last point kept), points where it turns by more than 120 degrees dropped (never the ends).
+/// (the last point kept), points closer than kStepRadii radii to the previous one kept dropped, and
+/// points where it turns by more than 120 degrees dropped (never the ends).
 Polyline make_polyline(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& radii, double eps);
 
 /// The ring at arc length `s` (clamped to the polyline), `sides` sides, of the interpolated radius.

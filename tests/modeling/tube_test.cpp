@@ -53,6 +53,25 @@ TEST(Tube, PolylineMergesRepeatsAndDropsFoldsButKeepsTheEnds) {
   }
 }
 
+TEST(Tube, PolylineKeepsItsPointsARadiusApart) {
+  // A path that zigzags across its own radius (0.1) in steps of 0.02, and steps down and up again.
+  std::vector<Vector3d> points;
+  for (int i = 0; i <= 50; ++i) points.emplace_back(i % 2 ? 0.03 : -0.03, 0.0, 0.02 * i);
+  for (double z : {0.96, 0.92, 0.9, 0.95, 1.0, 1.05}) points.emplace_back(0.0, 0.0, z);
+  points.emplace_back(0.0, 0.0, 1.6);
+  const std::vector<double> radii(points.size(), 0.1);
+  const Polyline pl = make_polyline(points, radii, 1e-9);
+  EXPECT_EQ(pl.p.front(), points.front());
+  EXPECT_EQ(pl.p.back(), points.back());
+  for (std::size_t i = 1; i < pl.p.size(); ++i) {
+    EXPECT_GE((pl.p[i] - pl.p[i - 1]).norm(), kStepRadii * 0.1) << "points " << i - 1 << " and " << i;
+    EXPECT_GT(pl.p[i].z(), pl.p[i - 1].z()) << "the polyline still steps down at " << i;
+  }
+  // Nothing of a path whose points are already that far apart is dropped.
+  const Polyline sparse = make_polyline({{0, 0, 0}, {0.3, 0, 1}, {0, 0, 2}, {0.3, 0, 3}}, {0.1, 0.1, 0.1, 0.1}, 1e-9);
+  EXPECT_EQ(sparse.p.size(), 4u);
+}
+
 TEST(Tube, RingAtInterpolatesAndClamps) {
   const Polyline pl = make_polyline({{0, 0, 0}, {0, 0, 1}, {1, 0, 1}}, {0.2, 0.1, 0.1}, 1e-9);
   const Ring mid = ring_at(pl, 0.5, 8);
