@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   const treeskel::cli::Command model = treeskel::cli::add_model(app);
   const treeskel::cli::Command synth = treeskel::cli::add_synth(app);
   const treeskel::cli::Command evaluate = treeskel::cli::add_eval(app);
+  const treeskel::cli::Command batch = treeskel::cli::add_batch(app);
 
   try {
     app.parse(argc, argv);
@@ -43,6 +44,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("model")) return model();
     if (app.got_subcommand("synth")) return synth();
     if (app.got_subcommand("eval")) return evaluate();
+    if (app.got_subcommand("batch")) return batch();
   } catch (const treeskel::OptionError& e) {
     std::cerr << "treeskel: error: " << e.what() << '\n';
     return 2;

@@ -26,6 +26,7 @@ namespace fs = std::filesystem;
 struct Settings {
   std::string input;
   std::string output;
+  std::string report;
   bool json = false;
   bool quiet = false;
   SkeletonSettings method;
@@ -36,9 +37,12 @@ int run(Settings& s) {
   if (s.input.empty()) s.input = TREESKEL_DEFAULT_EXAMPLE;
   if (s.output.empty()) s.output = fs::path(s.input).stem().string() + "_skeleton.ply";
   require_skeleton_extension(s.output);
+  if (!s.report.empty() && io::extension_of(s.report) != "json") throw OptionError("--report must name a .json file");
   check_skeleton_settings(s.method);
+  // Every output is checked before any work and committed together at the end: whole or absent.
   io::OutputSet outputs({fs::path(s.input)});
   const fs::path output_to = outputs.stage(s.output, "-o");
+  const fs::path report_to = s.report.empty() ? fs::path() : outputs.stage(s.report, "--report");
 
   Progress progress(s.quiet || s.json);
   progress("reading " + fs::path(s.input).filename().string(), 0.0);
@@ -52,43 +56,49 @@ int run(Settings& s) {
   progress("writing " + fs::path(s.output).filename().string(), 0.97);
   try {
     io::write_skeleton(output_to, skeleton);
-    outputs.commit();
   } catch (const Error& e) {
     throw Error(outputs.explain(e.what()));
   }
   const double seconds = clock.seconds();
-  progress.clear();
 
   const std::size_t branch_points = count_branch_points(skeleton.graph);
   const std::size_t endpoints = count_endpoints(skeleton.graph);
+  nlohmann::ordered_json j;
+  j["input"] = s.input;
+  j["output"] = s.output;
+  j["points"] = cloud.size();
+  j["nodes"] = skeleton.node_count();
+  j["edges"] = skeleton.edge_count();
+  j["branch_points"] = branch_points;
+  j["endpoints"] = endpoints;
+  j["length"] = total_length(skeleton.graph);
+  j["seconds"] = seconds;
+  j["peak_memory_mb"] = peak_memory_mb();
+  j["left_out"] = {{"total", skeleton.left_out.total()},
+                   {"small_clusters", skeleton.left_out.small_clusters},
+                   {"far_parts", skeleton.left_out.far_parts},
+                   {"outliers", skeleton.left_out.outliers}};
+  j["octree_depth"] = stats.octree_depth;
+  j["cell_size"] = stats.cell_size;
+  j["band_width"] = stats.band_width;
+  j["cells"] = stats.cells;
+  j["bridges"] = stats.bridges;
+  j["parts"] = stats.parts;
+  j["level_set_nodes"] = stats.level_set_nodes;
+  j["pruned_branches"] = stats.pruned_branches;
+  j["refined_splits"] = stats.refined_splits;
+  j["forks_moved"] = stats.forks_moved;
+  auto& stages = j["stage_seconds"] = nlohmann::ordered_json::object();
+  for (const auto& [stage, t] : stats.seconds) stages[stage] = t;
+  try {
+    if (!s.report.empty()) io::write_atomically(report_to, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+    outputs.commit();
+  } catch (const Error& e) {
+    throw Error(outputs.explain(e.what()));
+  }
+  progress.clear();
+
   if (s.json) {
-    nlohmann::ordered_json j;
-    j["input"] = s.input;
-    j["output"] = s.output;
-    j["points"] = cloud.size();
-    j["nodes"] = skeleton.node_count();
-    j["edges"] = skeleton.edge_count();
-    j["branch_points"] = branch_points;
-    j["endpoints"] = endpoints;
-    j["length"] = total_length(skeleton.graph);
-    j["seconds"] = seconds;
-    j["peak_memory_mb"] = peak_memory_mb();
-    j["left_out"] = {{"total", skeleton.left_out.total()},
-                     {"small_clusters", skeleton.left_out.small_clusters},
-                     {"far_parts", skeleton.left_out.far_parts},
-                     {"outliers", skeleton.left_out.outliers}};
-    j["octree_depth"] = stats.octree_depth;
-    j["cell_size"] = stats.cell_size;
-    j["band_width"] = stats.band_width;
-    j["cells"] = stats.cells;
-    j["bridges"] = stats.bridges;
-    j["parts"] = stats.parts;
-    j["level_set_nodes"] = stats.level_set_nodes;
-    j["pruned_branches"] = stats.pruned_branches;
-    j["refined_splits"] = stats.refined_splits;
-    j["forks_moved"] = stats.forks_moved;
-    auto& stages = j["stage_seconds"] = nlohmann::ordered_json::object();
-    for (const auto& [stage, t] : stats.seconds) stages[stage] = t;
     std::cout << j.dump(2) << '\n';
   } else if (!s.quiet) {
     std::cout << fs::path(s.input).filename().string() << ": " << cloud.size() << " points, " << skeleton.node_count()
@@ -121,6 +131,7 @@ Command add_skeletonize(CLI::App& app) {
                                    "default relative to the octree cell size.");
   c->add_option("input", s->input, "Point cloud to skeletonize (default: the bundled example tree)");
   c->add_option("-o,--output", s->output, "Skeleton file to write (default: INPUT_skeleton.ply in this folder)");
+  c->add_option("--report", s->report, "Also write the JSON report (what --json prints) to this file");
   c->add_flag("--json", s->json, "Print a machine-readable JSON report on stdout instead of the summary");
   c->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
 

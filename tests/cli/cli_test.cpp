@@ -1,5 +1,6 @@
 // End-to-end runs of the treeskel command on real files.
 #include "modeling/model_fixtures.h"
+#include "run_tool.h"
 #include "support/synthetic.h"
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
@@ -20,27 +21,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out;  // stdout and stderr
-};
-
-/// Runs the tool with `args` (a shell word list) in `cwd`, capturing both streams; `before` is shell
-/// text run first in the same shell (e.g. a ulimit).
-Result run(const std::string& args, const std::string& cwd = ".", const std::string& before = "") {
-  const std::string command = "cd '" + cwd + "' && " + before + " '" TREESKEL_EXE "' " + args + " 2>&1";
-  Result r;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 4096> buffer;
-  std::size_t n;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.out.append(buffer.data(), n);
-  const int status = ::pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string quoted(const std::string& s) { return "'" + s + "'"; }
+using test::quoted;
+using test::Result;
+using test::run;
 
 TEST(Cli, NoInputRunsTheBundledExample) {
   const test::TempDir dir;

@@ -1,0 +1,522 @@
+// treeskel batch INPUT... -o OUTDIR: many trees, each converted by a treeskel process of its own (so a
+// tree that fails, crashes or runs out of memory fails alone), N at a time, one summary row per tree.
+#include "batch_plan.h"
+#include "commands.h"
+#include "report.h"
+#include "skeleton_options.h"
+
+#include "treeskel/error.h"
+#include "treeskel/io/atomic_file.h"
+#include "treeskel/io/mesh_io.h"
+#include "treeskel/io/point_cloud_io.h"
+
+#include <nlohmann/json.hpp>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace treeskel::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// How often, at most, the summary files are rewritten while the batch runs (so that a batch killed
+/// outright leaves a summary of nearly all it did).
+constexpr double kSummaryInterval = 5.0;
+
+struct Settings {
+  std::vector<std::string> inputs;
+  std::string out_dir;
+  std::string model;     // mesh format ("" for none)
+  std::string skeleton;  // skeleton format ("" for none)
+  unsigned jobs = 0;
+  bool resume = false;
+  std::string shard;
+  bool quiet = false;
+  SkeletonSettings method;                  // checked here, passed on as given
+  std::shared_ptr<void> model_options;      // the same
+  std::vector<const CLI::Option*> passed;   // the options passed on to every tree's command
+  std::vector<const CLI::Option*> model_only;  // ... of those, the ones only `model` has
+};
+
+/// One tree of the batch and what became of it.
+struct Row {
+  BatchInput input;
+  std::string status = "not run";  // ok, failed, not run (the batch was stopped first)
+  bool resumed = false;            // its outputs were complete from an earlier run
+  double seconds = 0.0;
+  std::vector<fs::path> outputs;
+  fs::path report;                 // the tree's JSON report
+  nlohmann::json facts;            // that report, once read
+  std::string error;
+};
+
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
+
+/// The command line's options in `options` that were given, as arguments for the tree's command.
+void append_given(const std::vector<const CLI::Option*>& options, std::vector<std::string>& args) {
+  for (const CLI::Option* o : options) {
+    if (o->count() == 0) continue;
+    if (o->get_expected_min() == 0) {
+      args.push_back(o->get_name());
+      continue;
+    }
+    for (const auto& value : o->results()) {
+      args.push_back(o->get_name());
+      args.push_back(value);
+    }
+  }
+}
+
+fs::path output_path(const Settings& s, const BatchInput& in, const std::string& suffix) {
+  fs::path p = fs::path(s.out_dir) / in.name;
+  p += suffix;
+  return p;
+}
+
+/// The tree's outputs, its report last.
+std::vector<fs::path> outputs_of(const Settings& s, const BatchInput& in) {
+  std::vector<fs::path> out;
+  if (!s.model.empty()) out.push_back(output_path(s, in, "." + s.model));
+  if (!s.skeleton.empty()) out.push_back(output_path(s, in, "_skeleton." + s.skeleton));
+  out.push_back(output_path(s, in, "_report.json"));
+  return out;
+}
+
+std::vector<std::string> command_for(const Settings& s, const Row& row, unsigned threads) {
+  std::vector<std::string> args{"treeskel", "--threads", std::to_string(threads)};
+  if (!s.model.empty()) {
+    args.insert(args.end(), {"model", row.input.path.string(), "-o", row.outputs[0].string()});
+    if (!s.skeleton.empty()) args.insert(args.end(), {"--skeleton", row.outputs[1].string()});
+  } else {
+    args.insert(args.end(), {"skeletonize", row.input.path.string(), "-o", row.outputs[0].string()});
+  }
+  args.insert(args.end(), {"--report", row.report.string(), "-q"});
+  append_given(s.passed, args);
+  return args;
+}
+
+/// Starts `args` as a child process of this executable, its output to nowhere, its errors to `log`.
+pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
+  static const fs::path self = fs::read_symlink("/proc/self/exe");
+  posix_spawn_file_actions_t actions;
+  ::posix_spawn_file_actions_init(&actions);
+  ::posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  ::posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = ::posix_spawn(&pid, self.c_str(), &actions, nullptr, argv.data(), environ);
+  ::posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) throw Error("cannot start a treeskel process: " + std::string(std::strerror(rc)));
+  return pid;
+}
+
+/// What the tree's process said went wrong: its last error line, else its last line.
+std::string error_from_log(const fs::path& log) {
+  std::ifstream in(log);
+  std::string line, last, last_error;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    last = line;
+    if (line.rfind("treeskel: ", 0) == 0) last_error = line.substr(10);
+  }
+  std::string e = last_error.empty() ? last : last_error;
+  if (e.rfind("error: ", 0) == 0) e.erase(0, 7);
+  return e;
+}
+
+/// Reads the tree's report into the row; false (with the error) when it cannot be read.
+bool read_report(Row& row) {
+  try {
+    row.facts = nlohmann::json::parse(io::read_whole_file(row.report));
+    return row.facts.is_object();
+  } catch (const std::exception& e) {
+    row.error = "its report could not be read: " + std::string(e.what());
+    return false;
+  }
+}
+
+/// A complete earlier conversion: every output there and the report readable.
+bool complete(Row& row) {
+  std::error_code ec;
+  for (const auto& p : row.outputs)
+    if (!fs::is_regular_file(p, ec)) return false;
+  Row probe = row;
+  if (!read_report(probe)) return false;
+  row.facts = std::move(probe.facts);
+  return true;
+}
+
+void finish(Row& row, int status, const fs::path& log, bool stopping) {
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    std::error_code ec;
+    for (const auto& p : row.outputs)
+      if (!fs::is_regular_file(p, ec)) {
+        row.status = "failed";
+        row.error = "finished without writing " + p.string();
+        return;
+      }
+    row.status = read_report(row) ? "ok" : "failed";
+    return;
+  }
+  if (stopping && WIFSIGNALED(status)) {
+    row.status = "not run";
+    row.error = "stopped with the batch";
+    return;
+  }
+  row.status = "failed";
+  row.error = error_from_log(log);
+  if (WIFSIGNALED(status)) {
+    const int sig = WTERMSIG(status);
+    const std::string what = sig == SIGKILL ? "killed (signal 9: out of memory, or by a scheduler's limit?)"
+                             : sig == SIGSEGV || sig == SIGABRT || sig == SIGBUS || sig == SIGFPE || sig == SIGILL
+                                 ? "crashed (signal " + std::to_string(sig) + "; please report it with the input)"
+                                 : "ended by signal " + std::to_string(sig);
+    row.error = row.error.empty() ? what : what + " after: " + row.error;
+  } else if (row.error.empty()) {
+    row.error = "exit code " + std::to_string(WEXITSTATUS(status));
+  }
+}
+
+// The summary: one row per tree, as CSV and as JSON, with the same fields.
+const std::vector<std::string> kColumns{"input",  "name",      "status", "resumed", "seconds", "points", "nodes",
+                                        "height", "dbh",       "volume", "branch_points", "endpoints",
+                                        "branches_by_order", "triangles", "components", "skeleton_coverage",
+                                        "warnings", "outputs",  "error"};
+
+nlohmann::ordered_json row_json(const Row& r) {
+  const nlohmann::json& f = r.facts;
+  auto fact = [&](const nlohmann::json::json_pointer& at) -> nlohmann::ordered_json {
+    return f.is_object() && f.contains(at) ? nlohmann::ordered_json(f.at(at)) : nlohmann::ordered_json(nullptr);
+  };
+  using P = nlohmann::json::json_pointer;
+  nlohmann::ordered_json j;
+  j["input"] = r.input.path.string();
+  j["name"] = r.input.name.string();
+  j["status"] = r.status;
+  j["resumed"] = r.resumed;
+  j["seconds"] = r.status == "ok" ? fact(P("/seconds/total")).is_null() ? fact(P("/seconds")) : fact(P("/seconds/total"))
+                                  : nlohmann::ordered_json(r.seconds);
+  j["points"] = fact(P("/points"));
+  j["nodes"] = fact(P("/nodes"));
+  j["height"] = fact(P("/measurements/height"));
+  j["dbh"] = fact(P("/measurements/dbh"));
+  j["volume"] = fact(P("/measurements/volume"));
+  j["branch_points"] = fact(P("/branch_points"));
+  j["endpoints"] = fact(P("/endpoints"));
+  j["branches_by_order"] = fact(P("/measurements/branches_by_order"));
+  j["triangles"] = fact(P("/mesh/triangles"));
+  j["components"] = fact(P("/mesh/components"));
+  j["skeleton_coverage"] = fact(P("/mesh/skeleton_coverage"));
+  j["warnings"] = f.is_object() && f.contains("warnings") ? nlohmann::ordered_json(f["warnings"]) : nlohmann::ordered_json::array();
+  j["outputs"] = nlohmann::ordered_json::array();
+  if (r.status == "ok")
+    for (const auto& p : r.outputs) j["outputs"].push_back(p.string());
+  j["error"] = r.error.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.error);
+  return j;
+}
+
+std::string csv_text(const nlohmann::ordered_json& v) {
+  if (v.is_null()) return "";
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_array()) {
+    std::string out;
+    for (const auto& e : v) out += (out.empty() ? "" : "; ") + csv_text(e);
+    return out;
+  }
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  return v.dump();
+}
+
+void write_summary(const Settings& s, const std::vector<Row>& rows, const fs::path& csv, const fs::path& json) {
+  nlohmann::ordered_json all = nlohmann::ordered_json::array();
+  for (const auto& r : rows) all.push_back(row_json(r));
+  io::write_atomically(csv, [&](std::ostream& out) {
+    for (std::size_t c = 0; c < kColumns.size(); ++c) out << (c ? "," : "") << kColumns[c];
+    out << '\n';
+    for (const auto& j : all) {
+      for (std::size_t c = 0; c < kColumns.size(); ++c) out << (c ? "," : "") << csv_field(csv_text(j[kColumns[c]]));
+      out << '\n';
+    }
+  });
+  std::size_t ok = 0, failed = 0;
+  for (const auto& r : rows) {
+    ok += r.status == "ok";
+    failed += r.status == "failed";
+  }
+  nlohmann::ordered_json doc;
+  doc["treeskel"] = TREESKEL_VERSION;
+  doc["output_folder"] = s.out_dir;
+  doc["shard"] = s.shard.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(s.shard);
+  doc["inputs"] = rows.size();
+  doc["converted"] = ok;
+  doc["failed"] = failed;
+  doc["not_run"] = rows.size() - ok - failed;
+  doc["trees"] = std::move(all);
+  io::write_atomically(json, [&](std::ostream& out) { out << doc.dump(2) << '\n'; });
+}
+
+std::string format_duration(double seconds) {
+  const long t = std::lround(seconds);
+  std::ostringstream out;
+  if (t >= 3600) out << t / 3600 << "h" << (t % 3600) / 60 << "m";
+  else if (t >= 60) out << t / 60 << "m" << t % 60 << "s";
+  else out << t << "s";
+  return out.str();
+}
+
+/// One line for a finished tree.
+std::string row_line(const Row& r, std::size_t done, std::size_t total) {
+  std::ostringstream out;
+  out << "[" << done << "/" << total << "] ";
+  if (r.status != "ok") {
+    // Most errors name their file already.
+    const std::string path = r.input.path.string();
+    out << (r.status == "failed" ? "FAILED " : "not run ");
+    if (r.error.rfind(path, 0) == 0) return out.str() + r.error;
+    return out.str() + path + ": " + r.error;
+  }
+  out << "ok " << r.input.path.string();
+  const auto& f = r.facts;
+  if (r.resumed) out << " (done before)";
+  else out << " (" << format_seconds(r.seconds) << ")";
+  if (f.contains("points")) out << ": " << f["points"].get<std::size_t>() << " points";
+  if (f.contains("measurements")) {
+    const auto& m = f["measurements"];
+    out << ", height " << m["height"].get<double>();
+    if (!m["dbh"].is_null()) out << ", DBH " << m["dbh"].get<double>();
+  } else if (f.contains("nodes")) {
+    out << ", " << f["nodes"].get<std::size_t>() << " nodes";
+  }
+  if (f.contains("warnings") && !f["warnings"].empty()) out << ", " << f["warnings"].size() << " warning(s)";
+  return out.str();
+}
+
+int run(Settings& s) {
+  Stopwatch clock;
+  // What to write: a mesh unless only a skeleton is asked for.
+  if (s.model.empty() && s.skeleton.empty()) s.model = "glb";
+  if (!s.model.empty() && !io::is_mesh_extension("x." + s.model))
+    throw OptionError("--model " + s.model + ": unknown mesh format; use obj, gltf, glb, ply or stl");
+  if (!s.skeleton.empty()) require_skeleton_extension("x." + s.skeleton);
+  check_skeleton_settings(s.method);
+  if (s.model.empty())
+    for (const CLI::Option* o : s.model_only)
+      if (o->count() > 0) throw OptionError(o->get_name() + " shapes the model: add --model FORMAT, or leave it out");
+  const Shard shard = s.shard.empty() ? Shard{} : parse_shard(s.shard);
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  const unsigned jobs = s.jobs > 0 ? s.jobs : cores;
+  const unsigned threads = std::max(1u, cores / jobs);
+
+  std::error_code ec;
+  fs::create_directories(s.out_dir, ec);
+  if (!fs::is_directory(s.out_dir)) throw OptionError("-o " + s.out_dir + ": cannot make this folder: " + ec.message());
+  std::vector<std::string> extensions = io::point_cloud_extensions();
+  std::vector<fs::path> passed_over;
+  const std::vector<BatchInput> all = plan_inputs(s.inputs, extensions, s.out_dir, &passed_over);
+  if (!passed_over.empty() && !s.quiet) {
+    std::cerr << "note: " << passed_over.size() << " file(s) in the folders do not look like point clouds and are "
+              << "passed over (name a file to convert it anyway):";
+    for (std::size_t i = 0; i < std::min<std::size_t>(passed_over.size(), 5); ++i) std::cerr << ' ' << passed_over[i].string();
+    std::cerr << (passed_over.size() > 5 ? " ...\n" : "\n");
+  }
+  if (all.empty()) throw OptionError("no input: name cloud files, folders holding them, or patterns");
+  const std::vector<BatchInput> mine = take_shard(all, shard);
+  const std::string summary_stem =
+      s.shard.empty() ? "summary" : "summary-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count);
+  const fs::path summary_csv = fs::path(s.out_dir) / (summary_stem + ".csv");
+  const fs::path summary_json = fs::path(s.out_dir) / (summary_stem + ".json");
+
+  std::vector<Row> rows;
+  for (const auto& in : mine) {
+    Row r;
+    r.input = in;
+    r.outputs = outputs_of(s, in);
+    r.report = r.outputs.back();
+    if (!in.error.empty()) {
+      r.status = "failed";
+      r.error = in.error;
+    } else if (s.resume && complete(r)) {
+      r.status = "ok";
+      r.resumed = true;
+    }
+    rows.push_back(std::move(r));
+  }
+
+  // Logs of the trees' processes, in a private folder removed at the end.
+  std::string log_template = (fs::temp_directory_path() / "treeskel-batch-XXXXXX").string();
+  if (!::mkdtemp(log_template.data())) throw Error("cannot make a temporary folder: " + std::string(std::strerror(errno)));
+  const fs::path logs(log_template);
+  struct LogsGone {
+    fs::path dir;
+    ~LogsGone() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+    }
+  } logs_gone{logs};
+
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;  // no SA_RESTART: waitpid returns to look at the flag
+  sigemptyset(&action.sa_mask);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &action, nullptr);
+
+  const std::size_t total = rows.size();
+  std::size_t done = 0, failed = 0;
+  for (auto& r : rows) {
+    if (r.status == "not run") continue;
+    ++done;
+    failed += r.status == "failed";
+    if (!s.quiet) std::cout << row_line(r, done, total) << '\n';
+    else if (r.status == "failed") std::cerr << row_line(r, done, total) << '\n';
+  }
+  Progress progress(s.quiet);
+  struct Running {
+    std::size_t row;
+    Stopwatch clock;
+    fs::path log;
+  };
+  std::map<pid_t, Running> running;
+  std::size_t next = 0, ran = 0;
+  Stopwatch since_summary;
+  bool stopping = false;
+  auto draw = [&] {
+    std::ostringstream line;
+    line << done << " of " << total << " done, " << failed << " failed, " << running.size() << " running";
+    if (ran > 0 && done < total) {
+      const double per_tree = clock.seconds() / static_cast<double>(ran);
+      line << ", about " << format_duration(per_tree * static_cast<double>(total - done)) << " left";
+    }
+    progress(line.str(), total ? static_cast<double>(done) / static_cast<double>(total) : 1.0);
+  };
+  // The largest files first: the long trees then overlap the rest instead of running last, alone.
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (rows[i].status == "not run") order.push_back(i);
+  std::vector<std::uintmax_t> bytes(rows.size(), 0);
+  for (std::size_t i : order) bytes[i] = fs::file_size(rows[i].input.path, ec);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return bytes[a] > bytes[b]; });
+  while (true) {
+    while (!stopping && running.size() < jobs && next < order.size()) {
+      const std::size_t i = order[next++];
+      Row& r = rows[i];
+      for (const auto& p : r.outputs) fs::create_directories(p.parent_path());
+      Running job{i, Stopwatch(), logs / (std::to_string(i) + ".log")};
+      running.emplace(spawn(command_for(s, r, threads), job.log), job);
+    }
+    draw();
+    if (running.empty()) break;
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid < 0) {
+      if (errno != EINTR) throw Error("waiting for a tree's process failed: " + std::string(std::strerror(errno)));
+      if (g_stop_signal && !stopping) {
+        stopping = true;
+        for (const auto& [child, job] : running) ::kill(child, g_stop_signal);
+      }
+      continue;
+    }
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    Row& r = rows[it->second.row];
+    r.seconds = it->second.clock.seconds();
+    finish(r, status, it->second.log, stopping);
+    running.erase(it);
+    if (r.status != "not run") {
+      ++done;
+      ++ran;
+      failed += r.status == "failed";
+      progress.clear();
+      if (!s.quiet) std::cout << row_line(r, done, total) << std::endl;
+      else if (r.status == "failed") std::cerr << row_line(r, done, total) << std::endl;
+    }
+    if (since_summary.seconds() > kSummaryInterval) {
+      write_summary(s, rows, summary_csv, summary_json);
+      since_summary = Stopwatch();
+    }
+  }
+  progress.clear();
+  write_summary(s, rows, summary_csv, summary_json);
+  std::size_t resumed = 0, not_run = 0;
+  for (const auto& r : rows) {
+    resumed += r.resumed;
+    not_run += r.status == "not run";
+  }
+  if (!s.quiet || failed > 0 || stopping) {
+    std::ostringstream line;
+    line << total << (total == 1 ? " input" : " inputs") << (s.shard.empty() ? "" : " in shard " + s.shard) << ": "
+         << done - failed << " converted";
+    if (resumed) line << " (" << resumed << " before this run)";
+    line << ", " << failed << " failed";
+    if (not_run) line << ", " << not_run << " not run (stopped)";
+    line << ", " << format_duration(clock.seconds()) << "; summary in " << summary_csv.string() << " and "
+         << summary_json.filename().string();
+    (failed > 0 || stopping ? std::cerr : std::cout) << line.str() << '\n';
+  }
+  if (stopping) return 128 + static_cast<int>(g_stop_signal);
+  return failed > 0 ? 1 : 0;
+}
+
+}  // namespace
+
+Command add_batch(CLI::App& app) {
+  auto s = std::make_shared<Settings>();
+  CLI::App* c = app.add_subcommand(
+      "batch",
+      "Convert many trees: every cloud named, found in a folder (recursively) or matching a pattern, each by a "
+      "treeskel process of its own, several at a time; a tree that fails is one error row and the rest go on.\n"
+      "Writes OUTDIR/NAME.glb (or --model FORMAT), NAME_skeleton.FORMAT with --skeleton, NAME_report.json, and "
+      "summary.csv and summary.json with one row per tree (input, status, seconds, points, height, DBH, "
+      "volume, branch counts, coverage, warnings, error). NAME is the input's file name without its "
+      "extension, or for a file found in a folder its path below that folder. Exit code 0 when every tree "
+      "converted, 1 when any failed.");
+  c->add_option("inputs", s->inputs, "Cloud files, folders of them, or quoted patterns such as 'plot/*.las'")
+      ->required();
+  c->add_option("-o,--output", s->out_dir, "Folder to write into (made if missing)")->required();
+  c->add_option("--model", s->model, "Mesh format of each tree's model: glb (the default), gltf, obj, ply or stl");
+  c->add_option("--skeleton", s->skeleton,
+                "Also write each tree's skeleton in this format: json, ply or obj (alone: skeletons only, "
+                "no model)");
+  c->add_option("-j,--jobs", s->jobs, "Trees converted at once (0: as many as cores; each gets cores/jobs threads)")
+      ->default_val(0)->check(CLI::Range(0u, 1024u));
+  c->add_flag("--resume", s->resume,
+              "Skip the trees whose outputs and report are all there from an earlier run (outputs are written "
+              "whole or not at all, so a killed batch leaves none half-written)");
+  c->add_option("--shard", s->shard,
+                "I/N: convert only every N-th input from the I-th (from 0), for array jobs; e.g. with Slurm "
+                "--array=0-9: --shard $SLURM_ARRAY_TASK_ID/10. The summary is then summary-I-of-N.csv/.json");
+  c->add_flag("-q,--quiet", s->quiet, "Print only failures and the final count when some failed");
+  const auto before = c->get_options();
+  s->model_options = add_model_options(*c);
+  const auto with_model = c->get_options();
+  add_skeleton_options(*c, s->method);
+  for (const CLI::Option* o : c->get_options()) {
+    if (std::find(before.begin(), before.end(), o) != before.end()) continue;
+    s->passed.push_back(o);
+    if (std::find(with_model.begin(), with_model.end(), o) != with_model.end()) s->model_only.push_back(o);
+  }
+  return [s] { return run(*s); };
+}
+
+}  // namespace treeskel::cli
