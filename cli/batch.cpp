@@ -2,6 +2,7 @@
 // tree that fails, crashes or runs out of memory fails alone), N at a time, one summary row per tree.
 #include "batch_plan.h"
 #include "commands.h"
+#include "model_options.h"
 #include "report.h"
 #include "skeleton_options.h"
 
@@ -51,8 +52,8 @@ struct Settings {
   bool resume = false;
   std::string shard;
   bool quiet = false;
-  SkeletonSettings method;                  // checked here, passed on as given
-  std::shared_ptr<void> model_options;      // the same
+  SkeletonSettings method;  // checked here, passed on as given
+  ModelSettings model_settings;  // the same
   std::vector<const CLI::Option*> passed;   // the options passed on to every tree's command
   std::vector<const CLI::Option*> model_only;  // ... of those, the ones only `model` has
 };
@@ -508,7 +509,7 @@ Command add_batch(CLI::App& app) {
                 "--array=0-9: --shard $SLURM_ARRAY_TASK_ID/10. The summary is then summary-I-of-N.csv/.json");
   c->add_flag("-q,--quiet", s->quiet, "Print only failures and the final count when some failed");
   const auto before = c->get_options();
-  s->model_options = add_model_options(*c);
+  add_model_options(*c, s->model_settings);
   const auto with_model = c->get_options();
   add_skeleton_options(*c, s->method);
   for (const CLI::Option* o : c->get_options()) {

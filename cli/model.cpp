@@ -1,5 +1,6 @@
 // treeskel model INPUT -o tree.glb: cloud (or saved skeleton) -> skeleton -> radii -> mesh.
 #include "commands.h"
+#include "model_options.h"
 #include "report.h"
 #include "skeleton_options.h"
 
@@ -45,22 +46,15 @@ constexpr double kUpAxisRatio = 1.5;
 constexpr double kTallestTree = 150.0;
 constexpr double kWidestTrunk = 3.0;
 
-struct Settings {
+struct Settings : ModelSettings {
   std::string input;
   std::string output;
   std::string report;
   std::string qsm;
   std::string skeleton_out;
-  bool with_skeleton = false;
   bool json = false;
   bool quiet = false;
-  bool allow_defects = false;
   SkeletonSettings method;
-  modeling::RadiusOptions radii;
-  modeling::SweepOptions sweep;
-  double breast_height = 1.3;
-  bool dbh_from_model = false;
-  bool local = false;
 };
 
 nlohmann::ordered_json measurements_json(const modeling::TreeMeasurements& m) {
@@ -330,53 +324,6 @@ int run(Settings& s) {
 
 }  // namespace
 
-namespace {
-
-/// The options that shape the model (not the input, the outputs or what is printed), in the group
-/// "Model".
-void add_model_method_options(CLI::App& c, Settings& s) {
-  const char* g = "Model";
-  auto& r = s.radii;
-  auto& w = s.sweep;
-  c.add_flag("--with-skeleton", s.with_skeleton, "Put the skeleton into the mesh file as lines beside the mesh")->group(g);
-  c.add_flag("--allow-defects", s.allow_defects, "Write the mesh even if it fails its checks (closed, manifold, ...)")
-      ->group(g);
-  c.add_option("--exponent", r.exponent, "Leonardo exponent e: r_parent^e = sum of r_child^e at forks (2: pipe model)")
-      ->default_val(r.exponent)->check(in_range(1.0, 4.0))->group(g);
-  c.add_option("--tip-weight", r.tip_weight,
-               "Pipe model: what a tip carries, in median twig lengths (large: all twigs equally thick)")
-      ->default_val(r.tip_weight)->check(positive())->group(g);
-  c.add_option("--fit-points", r.min_points, "Fewest points of a node for its radius to be measured by a circle fit")
-      ->default_val(r.min_points)->check(in_range(3, 100000))->group(g);
-  c.add_option("--segments", w.trunk_segments, "Polygon sides around the trunk; thinner branches get fewer")
-      ->default_val(w.trunk_segments)->check(in_range(3, 256))->group(g);
-  c.add_option("--min-segments", w.min_segments, "Fewest polygon sides around a branch")
-      ->default_val(w.min_segments)->check(in_range(3, w.max_segments))->group(g);
-  c.add_option("--min-radius", w.min_radius, "Leave out branches thinner than this where they start (0: keep all)")
-      ->default_val(w.min_radius)->check(not_negative())->group(g);
-  c.add_option("--breast-height", s.breast_height, "Height above the base where the DBH is measured (1.3 for metres)")
-      ->default_val(s.breast_height)->check(positive())->group(g);
-  c.add_flag("--dbh-from-model", s.dbh_from_model,
-             "Take the DBH from the model's radius at breast height, not from a circle fitted to the points of "
-             "a slice there (the default; the model's radius is the fallback when that circle is unreliable)")
-      ->group(g);
-  c.add_flag("--no-unite", [&s](std::int64_t) { s.sweep.unite_apart = false; },
-             "Leave out the limbs a fork's join or a crossing leaves no room for, instead of sweeping them apart and "
-             "uniting them with the tree (much faster on crowded crowns; the summary says how much of the skeleton "
-             "is then missing)")
-      ->group(g);
-  c.add_flag("--local", s.local,
-             "Write the mesh in the local frame (the input's frame less the offset the report gives) in every format. "
-             "By default OBJ holds the input's frame in double precision, glTF local vertices under a root node "
-             "that turns the up axis to +Y and translates by the offset exactly, PLY and STL the input's frame "
-             "unless 32-bit floats would round it (georeferenced clouds), then local with a note")
-      ->group(g);
-  c.add_flag("--no-repair", [&s](std::int64_t) { s.sweep.repair = false; },
-             "Skip the self-intersection test and repair (faster; the mesh may then cross itself)")->group(g);
-}
-
-}  // namespace
-
 Command add_model(CLI::App& app) {
   auto s = std::make_shared<Settings>();
   CLI::App* c = app.add_subcommand(
@@ -393,15 +340,10 @@ Command add_model(CLI::App& app) {
   c->add_option("--skeleton", s->skeleton_out, "Also write the skeleton with its fitted radii (.ply, .obj or .json)");
   c->add_flag("--json", s->json, "Print the JSON report on stdout instead of the summary");
   c->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
-  add_model_method_options(*c, *s);
+  add_model_options(*c, *s);
   add_skeleton_options(*c, s->method);
   return [s] { return run(*s); };
 }
 
-std::shared_ptr<void> add_model_options(CLI::App& command) {
-  auto s = std::make_shared<Settings>();
-  add_model_method_options(command, *s);
-  return s;
-}
 
 }  // namespace treeskel::cli

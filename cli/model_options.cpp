@@ -1,0 +1,48 @@
+#include "model_options.h"
+
+#include "report.h"
+
+namespace treeskel::cli {
+
+void add_model_options(CLI::App& c, ModelSettings& s) {
+  const char* g = "Model";
+  auto& r = s.radii;
+  auto& w = s.sweep;
+  c.add_flag("--with-skeleton", s.with_skeleton, "Put the skeleton into the mesh file as lines beside the mesh")->group(g);
+  c.add_flag("--allow-defects", s.allow_defects, "Write the mesh even if it fails its checks (closed, manifold, ...)")
+      ->group(g);
+  c.add_option("--exponent", r.exponent, "Leonardo exponent e: r_parent^e = sum of r_child^e at forks (2: pipe model)")
+      ->default_val(r.exponent)->check(in_range(1.0, 4.0))->group(g);
+  c.add_option("--tip-weight", r.tip_weight,
+               "Pipe model: what a tip carries, in median twig lengths (large: all twigs equally thick)")
+      ->default_val(r.tip_weight)->check(positive())->group(g);
+  c.add_option("--fit-points", r.min_points, "Fewest points of a node for its radius to be measured by a circle fit")
+      ->default_val(r.min_points)->check(in_range(3, 100000))->group(g);
+  c.add_option("--segments", w.trunk_segments, "Polygon sides around the trunk; thinner branches get fewer")
+      ->default_val(w.trunk_segments)->check(in_range(3, 256))->group(g);
+  c.add_option("--min-segments", w.min_segments, "Fewest polygon sides around a branch")
+      ->default_val(w.min_segments)->check(in_range(3, w.max_segments))->group(g);
+  c.add_option("--min-radius", w.min_radius, "Leave out branches thinner than this where they start (0: keep all)")
+      ->default_val(w.min_radius)->check(not_negative())->group(g);
+  c.add_option("--breast-height", s.breast_height, "Height above the base where the DBH is measured (1.3 for metres)")
+      ->default_val(s.breast_height)->check(positive())->group(g);
+  c.add_flag("--dbh-from-model", s.dbh_from_model,
+             "Take the DBH from the model's radius at breast height, not from a circle fitted to the points of "
+             "a slice there (the default; the model's radius is the fallback when that circle is unreliable)")
+      ->group(g);
+  c.add_flag("--no-unite", [&s](std::int64_t) { s.sweep.unite_apart = false; },
+             "Leave out the limbs a fork's join or a crossing leaves no room for, instead of sweeping them apart and "
+             "uniting them with the tree (much faster on crowded crowns; the summary says how much of the skeleton "
+             "is then missing)")
+      ->group(g);
+  c.add_flag("--local", s.local,
+             "Write the mesh in the local frame (the input's frame less the offset the report gives) in every format. "
+             "By default OBJ holds the input's frame in double precision, glTF local vertices under a root node "
+             "that turns the up axis to +Y and translates by the offset exactly, PLY and STL the input's frame "
+             "unless 32-bit floats would round it (georeferenced clouds), then local with a note")
+      ->group(g);
+  c.add_flag("--no-repair", [&s](std::int64_t) { s.sweep.repair = false; },
+             "Skip the self-intersection test and repair (faster; the mesh may then cross itself)")->group(g);
+}
+
+}  // namespace treeskel::cli
