@@ -57,23 +57,6 @@ struct Settings : ModelSettings {
   SkeletonSettings method;
 };
 
-nlohmann::ordered_json measurements_json(const modeling::TreeMeasurements& m) {
-  nlohmann::ordered_json j;
-  j["height"] = m.height;
-  j["dbh"] = m.dbh ? nlohmann::ordered_json(*m.dbh) : nlohmann::ordered_json(nullptr);
-  j["dbh_source"] = m.dbh_source == modeling::DbhSource::points  ? nlohmann::ordered_json("points")
-                    : m.dbh_source == modeling::DbhSource::model ? nlohmann::ordered_json("model")
-                                                                 : nlohmann::ordered_json(nullptr);
-  j["breast_height"] = m.breast_height;
-  j["dbh_height"] = m.dbh ? nlohmann::ordered_json(m.dbh_height) : nlohmann::ordered_json(nullptr);
-  j["volume"] = m.volume;
-  j["length"] = m.length;
-  j["trunk_length"] = m.trunk_length;
-  j["branches_by_order"] = m.branches_by_order;
-  j["cylinders"] = m.cylinders.size();
-  return j;
-}
-
 /// What looks wrong about the input, from the skeleton's extent and the measurements: an up axis
 /// along which the tree is much shorter than across, units that are not metres, a trunk no real
 /// tree has.

@@ -2,6 +2,8 @@
 
 #include "report.h"
 
+#include "treeskel/modeling/measurements.h"
+
 namespace treeskel::cli {
 
 void add_model_options(CLI::App& c, ModelSettings& s) {
@@ -43,6 +45,23 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
       ->group(g);
   c.add_flag("--no-repair", [&s](std::int64_t) { s.sweep.repair = false; },
              "Skip the self-intersection test and repair (faster; the mesh may then cross itself)")->group(g);
+}
+
+nlohmann::ordered_json measurements_json(const modeling::TreeMeasurements& m) {
+  nlohmann::ordered_json j;
+  j["height"] = m.height;
+  j["dbh"] = m.dbh ? nlohmann::ordered_json(*m.dbh) : nlohmann::ordered_json(nullptr);
+  j["dbh_source"] = m.dbh_source == modeling::DbhSource::points  ? nlohmann::ordered_json("points")
+                    : m.dbh_source == modeling::DbhSource::model ? nlohmann::ordered_json("model")
+                                                                 : nlohmann::ordered_json(nullptr);
+  j["breast_height"] = m.breast_height;
+  j["dbh_height"] = m.dbh ? nlohmann::ordered_json(m.dbh_height) : nlohmann::ordered_json(nullptr);
+  j["volume"] = m.volume;
+  j["length"] = m.length;
+  j["trunk_length"] = m.trunk_length;
+  j["branches_by_order"] = m.branches_by_order;
+  j["cylinders"] = m.cylinders.size();
+  return j;
 }
 
 }  // namespace treeskel::cli

@@ -7,6 +7,11 @@
 #include "treeskel/modeling/sweep.h"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+namespace treeskel::modeling {
+struct TreeMeasurements;
+}
 
 namespace treeskel::cli {
 
@@ -22,5 +27,8 @@ struct ModelSettings {
 
 /// Adds the options to `command`, in the group "Model".
 void add_model_options(CLI::App& command, ModelSettings& settings);
+
+/// The measurements as the reports give them (`measurements` in `model --report`).
+nlohmann::ordered_json measurements_json(const modeling::TreeMeasurements& m);
 
 }  // namespace treeskel::cli

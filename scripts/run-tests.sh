@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Quick start 2: installs what is missing, builds, and runs the whole test suite in parallel:
-#   1. every test (unit, end-to-end, MeshLab under Xvfb, glTF validator) in build/;
+#   1. every test (unit, end-to-end, MeshLab under Xvfb, glTF validator, the Python package with
+#      pytest and a local Dask cluster) in build/;
 #   2. the unit and end-to-end tests again in an AddressSanitizer + UndefinedBehaviorSanitizer build
 #      (float-cast-overflow too; any report fails the test) in build-asan/;
 #   3. each reader's fuzz target for a short time (scripts/fuzz.sh; TREESKEL_FUZZ_SECONDS, default 20).
@@ -18,8 +19,8 @@ if [ "${1:-}" = --quick ]; then
   exec ctest --test-dir "$build" -j "$jobs" --output-on-failure -L unit "$@"
 fi
 failed=()
-# 1. The suite, with the MeshLab plugin's tests in the real (headless) MeshLab.
-TREESKEL_MESHLAB_PLUGIN=1 "$here/scripts/setup.sh"
+# 1. The suite, with the MeshLab plugin's tests in the real (headless) MeshLab and the Python package's.
+TREESKEL_MESHLAB_PLUGIN=1 TREESKEL_PYTHON=1 "$here/scripts/setup.sh"
 echo "run-tests: the whole suite" >&2
 ctest --test-dir "$build" -j "$jobs" --output-on-failure "$@" || failed+=("the suite (build/)")
 

@@ -5,6 +5,8 @@
 #        TREESKEL_SKIP_INSTALL=1       do not touch packages (e.g. no root and no sudo)
 #        TREESKEL_MESHLAB_PLUGIN=1     also the MeshLab plugin and its tests: Debian's MeshLab, Qt, GLEW,
 #                                      Xvfb, and MeshLab's headers from its source package
+#        TREESKEL_PYTHON=1             also the Python package and its tests: pybind11, Debian's python3
+#                                      with numpy, pytest and dask.distributed
 #        TREESKEL_BUILD_TARGET=name    build this target only
 #        TREESKEL_EXTRA_PACKAGES="a b" also these Debian packages (e.g. clang for scripts/fuzz.sh)
 #        TREESKEL_INSTALL_ONLY=1       install what is missing and stop (no build)
@@ -34,6 +36,10 @@ meshlab=${TREESKEL_MESHLAB_PLUGIN:-0}
 if [ "$meshlab" = 1 ]; then
   packages+=(meshlab qtbase5-dev libqt5opengl5-dev libglew-dev dpkg-dev xvfb xauth xdotool)
 fi
+python=${TREESKEL_PYTHON:-0}
+if [ "$python" = 1 ]; then
+  packages+=(pybind11-dev python3-dev python3-numpy python3-pytest python3-distributed)
+fi
 read -r -a extra <<< "${TREESKEL_EXTRA_PACKAGES:-}"
 packages+=("${extra[@]}")
 missing=()
@@ -60,6 +66,7 @@ if [ "$meshlab" = 1 ]; then
   "$here/plugins/meshlab/fetch-meshlab-source.sh" "$build/meshlab-source"
   cmake_args+=(-DTREESKEL_MESHLAB_PLUGIN=ON "-DMESHLAB_SOURCE_DIR=$build/meshlab-source")
 fi
+[ "$python" = 1 ] && cmake_args+=(-DTREESKEL_PYTHON=ON)
 cmake -S "$here" -B "$build" "${cmake_args[@]}" ${TREESKEL_CMAKE_ARGS:-} >/dev/null
 target=()
 [ -z "${TREESKEL_BUILD_TARGET:-}" ] || target=(--target "$TREESKEL_BUILD_TARGET")

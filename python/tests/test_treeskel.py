@@ -1,0 +1,129 @@
+"""The Python package against the command line, on the bundled clouds: the same results for the same
+options, errors as Python exceptions, no leak, the GIL released during the work."""
+import json
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import treeskel
+
+
+def run(exe, *args):
+    done = subprocess.run([exe, *map(str, args)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return done
+
+
+def test_skeleton_from_numpy_equals_the_commands(exe, data, tmp_path):
+    points = np.loadtxt(data / "tree_rtwig.txt")
+    skeleton = treeskel.extract_skeleton(points, cell_points=3, up="z")
+    skeleton.save(tmp_path / "py.json")
+    run(exe, "skeletonize", data / "tree_rtwig.txt", "-o", tmp_path / "cli.json", "--cell-points", 3, "-q")
+    assert json.loads((tmp_path / "py.json").read_text()) == json.loads((tmp_path / "cli.json").read_text())
+    # Arrays as the file says: positions in the input's frame, edges, every point labelled.
+    assert skeleton.positions.shape == (len(skeleton), 3)
+    assert skeleton.edges.shape == (len(skeleton) - 1, 2)
+    labels = skeleton.labels
+    assert labels.shape == (len(points),)
+    assert (labels >= -1).all() and labels.max() < len(skeleton)
+    assert (labels >= 0).sum() + skeleton.left_out["total"] == len(points)
+    assert np.abs(skeleton.positions.mean(axis=0) - points.mean(axis=0)).max() < 0.5
+
+
+def test_model_equals_the_commands(exe, data, tmp_path):
+    skeleton, mesh, measured = treeskel.model(str(data / "tree_rtwig.txt"), exponent=2.2)
+    mesh.save(str(tmp_path / "py.ply"), local=True)
+    report = tmp_path / "cli.json"
+    run(exe, "model", data / "tree_rtwig.txt", "-o", tmp_path / "cli.ply", "--local", "--exponent", 2.2,
+        "--report", report, "-q")
+    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    cli = json.loads(report.read_text())
+    assert measured == cli["measurements"]
+    check = mesh.check()
+    assert check["ok"] and check["closed"] and check["manifold"] and check["components"] == 1
+    assert check["triangles"] == cli["mesh"]["triangles"] == len(mesh.faces)
+    assert mesh.vertices.shape == (check["vertices"], 3)
+    assert mesh.faces.max() < len(mesh.vertices)
+    # The stages one at a time give the same as model().
+    again = treeskel.tree_mesh(treeskel.fit_radii(treeskel.extract_skeleton(treeskel.read_cloud(str(data / "tree_rtwig.txt"))), exponent=2.2))
+    assert np.array_equal(again.faces, mesh.faces) and np.array_equal(again.vertices, mesh.vertices)
+    assert np.array_equal(skeleton.radii, treeskel.fit_radii(skeleton, exponent=2.2).radii)
+
+
+def test_bad_input_raises_value_error_with_the_message(tmp_path):
+    with pytest.raises(ValueError, match=r"\(N, 3\) array.*got shape \(5, 2\)"):
+        treeskel.extract_skeleton(np.zeros((5, 2)))
+    with pytest.raises(ValueError, match="row 7 is not finite"):
+        bad = np.random.default_rng(1).random((50, 3))
+        bad[7, 2] = np.nan
+        treeskel.extract_skeleton(bad)
+    with pytest.raises(ValueError, match="needs at least 10"):
+        treeskel.extract_skeleton(np.random.default_rng(2).random((5, 3)))
+    with pytest.raises(ValueError, match="lie on one straight line"):
+        treeskel.extract_skeleton(np.outer(np.arange(100.0), [1.0, 1.0, 1.0]))
+    with pytest.raises(TypeError, match="unexpected keyword argument 'cellpoints'"):
+        treeskel.extract_skeleton(np.zeros((20, 3)), cellpoints=3)
+    with pytest.raises(ValueError, match="--cell-points"):
+        treeskel.extract_skeleton(np.zeros((20, 3)), cell_points=-1)
+    with pytest.raises(TypeError, match="switch"):
+        treeskel.extract_skeleton(np.zeros((20, 3)), no_cpc=1)
+    (tmp_path / "empty.xyz").write_text("")
+    with pytest.raises(ValueError, match="empty"):
+        treeskel.extract_skeleton(str(tmp_path / "empty.xyz"))
+    with pytest.raises(ValueError, match="unknown mesh extension"):
+        _, mesh, _ = treeskel.model(np.loadtxt(pathlib_data() / "tree_rtwig.txt"))
+        mesh.save(str(tmp_path / "tree.abc"))
+
+
+def pathlib_data():
+    import os
+    import pathlib
+
+    return pathlib.Path(os.environ.get("TREESKEL_TEST_DATA", pathlib.Path(__file__).parents[2] / "data"))
+
+
+def resident_mb():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * 4096 / 2**20
+
+
+def test_no_leak_over_a_thousand_calls():
+    rng = np.random.default_rng(3)
+    # A small trunk: 2000 points on a cylinder of radius 0.1, 2 tall (a copy of them, 48 kB, left
+    # behind by each call would add 48 MB).
+    a = rng.uniform(0, 2 * np.pi, 2000)
+    z = rng.uniform(0, 2, 2000)
+    points = np.c_[0.1 * np.cos(a), 0.1 * np.sin(a), z]
+
+    def calls(n):
+        for _ in range(n):
+            s = treeskel.fit_radii(treeskel.extract_skeleton(points))
+            treeskel.measure(s)
+            _ = s.positions, s.labels, s.edges
+            try:
+                treeskel.extract_skeleton(points[:3])
+            except ValueError:
+                pass
+
+    calls(100)
+    before = resident_mb()
+    calls(1000)
+    grown = resident_mb() - before
+    assert grown < 10.0, "resident memory grew by %.1f MB over 1000 calls" % grown
+
+
+def test_the_gil_is_released_during_the_work(data):
+    cloud = treeskel.read_cloud(str(data / "tree_adtree1.xyz"))
+    ticks = 0
+    worker = threading.Thread(target=lambda: treeskel.model(cloud))
+    start = time.monotonic()
+    worker.start()
+    while worker.is_alive():
+        time.sleep(0.001)
+        ticks += 1
+    seconds = time.monotonic() - start
+    # Held, this thread would not have run until the model was done.
+    assert seconds > 0.2 and ticks > 50, (seconds, ticks)
