@@ -315,7 +315,7 @@ Command add_model(CLI::App& app) {
       "(Leonardo's rule), branches swept and joined at forks.\n"
       "Output by extension: .glb .gltf (glTF 2.0), .obj, .ply, .stl. Distances are in the input's units.");
   c->add_option("input", s->input,
-                "Point cloud (.xyz .txt .asc .csv .pts .ply .las) or skeleton (.json, or .ply with edges) "
+                "Point cloud (.xyz .txt .asc .csv .pts .ply .las .laz) or skeleton (.json, or .ply with edges) "
                 "(default: the bundled example tree)");
   c->add_option("-o,--output", s->output, "Mesh file to write (default: INPUT_model.glb in this folder)");
   c->add_option("--report", s->report, "Also write the measurements and mesh checks as JSON to this file");

@@ -126,7 +126,7 @@ Command add_skeletonize(CLI::App& app) {
   auto s = std::make_shared<Settings>();
   CLI::App* c = app.add_subcommand("skeletonize",
                                    "Extract the curve skeleton of a tree from a point cloud.\n"
-                                   "Input: .xyz .txt .asc .csv .pts .ply .las; output by extension: .ply (vertices with radius, "
+                                   "Input: .xyz .txt .asc .csv .pts .ply .las .laz; output by extension: .ply (vertices with radius, "
                                    "edges), .obj (polylines) or .json. Distances are in the cloud's units; 0 picks the "
                                    "default relative to the octree cell size.");
   c->add_option("input", s->input, "Point cloud to skeletonize (default: the bundled example tree)");

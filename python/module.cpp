@@ -360,7 +360,7 @@ PYBIND11_MODULE(_treeskel, m) {
     py::gil_scoped_release free;
     c->cloud = io::read_point_cloud(path);
     return c;
-  }, py::arg("path"), "Reads a cloud (.xyz .txt .asc .csv .pts .ply .las)");
+  }, py::arg("path"), "Reads a cloud (.xyz .txt .asc .csv .pts .ply .las .laz)");
 
   m.def("read_skeleton", [](const std::filesystem::path& path, const std::string& up) {
     auto s = std::make_shared<PySkeleton>();

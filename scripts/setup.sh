@@ -49,12 +49,14 @@ done
 [ ${#missing[@]} -eq 0 ] || apt_install "${missing[@]}"
 [ "${TREESKEL_INSTALL_ONLY:-0}" = 1 ] && exit 0
 
-# The test suite checks exported glTF files with the Khronos validator, an npm package run by Node
-# (not needed when building a single target, e.g. the plugin alone).
+# Node tools from npm (tools/package.json): laz-perf, the LAZ decoder the readers run for .laz files
+# (Debian has no LAZ library), and the Khronos glTF validator the test suite checks exported glTF
+# with (not needed when building a single target, e.g. the plugin alone).
 if [ -z "${TREESKEL_BUILD_TARGET:-}" ]; then
   if ! command -v node >/dev/null || ! command -v npm >/dev/null; then apt_install nodejs npm; fi
-  if command -v npm >/dev/null && [ ! -f "$here/tools/node_modules/gltf-validator/package.json" ]; then
-    echo "setup: installing the glTF validator (npm) into tools/" >&2
+  if command -v npm >/dev/null && { [ ! -f "$here/tools/node_modules/gltf-validator/package.json" ] ||
+                                    [ ! -f "$here/tools/node_modules/laz-perf/package.json" ]; }; then
+    echo "setup: installing laz-perf and the glTF validator (npm) into tools/" >&2
     (cd "$here/tools" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
   fi
 fi

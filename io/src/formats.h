@@ -5,6 +5,7 @@
 #include "treeskel/point_cloud.h"
 #include "treeskel/skeleton.h"
 
+#include <filesystem>
 #include <iosfwd>
 #include <string>
 #include <string_view>
@@ -14,6 +15,9 @@ namespace treeskel::io::detail {
 PointCloud read_xyz(std::string_view data, const std::string& name);
 PointCloud read_ply(std::string_view data, const std::string& name);
 PointCloud read_las(std::string_view data, const std::string& name);
+/// LAZ, decompressed by laz-perf under Node.js (laz.cpp); `head` is the file's bytes (an uncompressed
+/// file named .laz is read as LAS).
+PointCloud read_laz(const std::filesystem::path& path, std::string_view head, const std::string& name);
 
 /// Skeleton readers (skeleton_io.cpp): nodes carry no point lists; the root as stored, else 0 (JSON)
 /// or the lowest node along z (PLY).

@@ -1,5 +1,5 @@
 // Uncompressed ASPRS LAS 1.0 to 1.4, point data formats 0 to 10. Positions are X·scale + offset in
-// doubles; RGB is read where the format has it. LAZ (compressed) files are refused with a message.
+// doubles; RGB is read where the format has it. LAZ (compressed) files go through laz.cpp.
 #include "formats.h"
 
 #include "treeskel/error.h"
@@ -44,8 +44,8 @@ PointCloud read_las(std::string_view data, const std::string& name) {
   const unsigned format_byte = static_cast<unsigned char>(data[104]);
   const std::size_t record = get<std::uint16_t>(data, 105);
   if (format_byte & 0xC0)
-    throw InputError(name + ": is LAZ-compressed; treeskel reads uncompressed LAS only. Decompress it first, "
-                            "e.g. with 'laszip -i file.laz -o file.las' or 'pdal translate file.laz file.las'");
+    throw InputError(name + ": is LAZ-compressed: name it .laz to have it decompressed (with laz-perf under "
+                            "Node.js), or decompress it first with 'laszip' or 'pdal translate'");
   const unsigned format = format_byte;
   if (format > 10) throw InputError(name + ": LAS point data format " + std::to_string(format) + " is unknown");
   if (record < minimum_record[format])

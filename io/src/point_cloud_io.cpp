@@ -18,32 +18,32 @@ bool is_text(const std::string& ext) {
   return std::find(text_extensions.begin(), text_extensions.end(), ext) != text_extensions.end();
 }
 
-std::string known_list() {
+/// The extensions read (or, `writing`, written: not .laz), as a list for messages.
+std::string known_list(bool writing = false) {
   std::string s;
-  for (const auto& e : point_cloud_extensions()) s += (s.empty() ? "." : ", .") + e;
+  for (const auto& e : point_cloud_extensions())
+    if (!writing || e != "laz") s += (s.empty() ? "." : ", .") + e;
   return s;
 }
 
 }  // namespace
 
 const std::vector<std::string>& point_cloud_extensions() {
-  static const std::vector<std::string> all{"xyz", "txt", "asc", "csv", "pts", "ply", "las"};
+  static const std::vector<std::string> all{"xyz", "txt", "asc", "csv", "pts", "ply", "las", "laz"};
   return all;
 }
 
 PointCloud read_point_cloud(const std::filesystem::path& path) {
   const std::string name = path.string();
   const std::string ext = extension_of(path);
-  if (ext == "laz")
-    throw InputError(name + ": LAZ (compressed LAS) is not supported; decompress it first, e.g. with "
-                            "'laszip -i file.laz -o file.las' or 'pdal translate file.laz file.las'");
-  if (ext != "ply" && ext != "las" && !is_text(ext))
+  if (ext != "ply" && ext != "las" && ext != "laz" && !is_text(ext))
     throw InputError(name + ": unknown point cloud extension '." + ext + "'; treeskel reads " + known_list());
   const detail::InputFile file(path);
   const std::string_view data = file.bytes();
   if (data.empty()) throw InputError(name + ": the file is empty");
-  PointCloud cloud = ext == "ply" ? detail::read_ply(data, name)
+  PointCloud cloud = ext == "ply"   ? detail::read_ply(data, name)
                      : ext == "las" ? detail::read_las(data, name)
+                     : ext == "laz" ? detail::read_laz(path, data, name)
                                     : detail::read_xyz(data, name);
   recentre_offset(cloud);
   return cloud;

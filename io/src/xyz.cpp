@@ -1,7 +1,8 @@
 // Plain-text clouds: .xyz .txt .asc .csv and .pts. One point a line, numbers separated by white space,
 // commas or semicolons; '#' starts a comment; CRLF line ends are accepted. An optional first line of
 // column names (x y z, nx ny nz, r g b / red green blue) picks the columns; without it the first three
-// numbers are x y z and the rest are ignored.
+// numbers are x y z and the rest are ignored. A line of one whole number (the point count that
+// Leica's and CloudCompare's .pts put before each scan's points) is passed over.
 #include "formats.h"
 
 #include "treeskel/error.h"
@@ -94,6 +95,10 @@ PointCloud read_xyz(std::string_view all, const std::string& name) {
         continue;
       }
     }
+    // Leica's and CloudCompare's .pts put the number of points of each scan on a line of its own.
+    if (tokens.size() == 1 && !tokens[0].empty() &&
+        std::all_of(tokens[0].begin(), tokens[0].end(), [](char c) { return c >= '0' && c <= '9'; }))
+      continue;
     const int needed = *std::max_element(columns.begin(), columns.end()) + 1;
     if (static_cast<int>(tokens.size()) < std::max(needed, 3))
       throw InputError(name + ": line " + std::to_string(line_number) + ": expected at least " +

@@ -192,6 +192,53 @@ TEST(ReadLas, Version14PointFormat6) {
   EXPECT_NEAR((c.positions[2] + c.offset - Eigen::Vector3d(500002.0, 4000002.02, 3.0)).norm(), 0.0, 1e-6);
 }
 
+TEST(ReadLaz, DecompressesThroughLazPerfToThePointsOfTheTextVersion) {
+  // treeiso's LPine1 plot; the figures are those of its .xyz.gz twin (the same points in the same
+  // order, to the LAS scale of 0.01).
+  const PointCloud c = io::read_point_cloud(TREESKEL_TEST_LAZ);
+  ASSERT_EQ(c.size(), 1544202u);
+  EXPECT_TRUE((c.positions.front() + c.offset).isApprox(Eigen::Vector3d(2.16, 1.49, 15.81), 1e-12));
+  EXPECT_TRUE((c.positions.back() + c.offset).isApprox(Eigen::Vector3d(14.47, 4.29, 15.02), 1e-12));
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& p : c.positions) sum += p + c.offset;
+  EXPECT_NEAR(sum.x(), 10226503.26, 1e-3);
+  EXPECT_NEAR(sum.y(), 4374165.61, 1e-3);
+  EXPECT_NEAR(sum.z(), 16481788.53, 1e-3);
+  const Eigen::AlignedBox3d box = bounding_box(c);
+  EXPECT_TRUE((box.min() + c.offset).isApprox(Eigen::Vector3d(-2.12, -2.48, -1.09), 1e-12));
+  EXPECT_TRUE((box.max() + c.offset).isApprox(Eigen::Vector3d(15.04, 8.59, 20.83), 1e-12));
+}
+
+TEST(ReadLaz, TruncatedCorruptOrUncompressedFilesAreToldApart) {
+  const TempDir dir;
+  std::ifstream in(TREESKEL_TEST_LAZ, std::ios::binary);
+  const std::string whole((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::ofstream(dir.path("cut.laz"), std::ios::binary) << whole.substr(0, 300000);
+  expect_error(dir.path("cut.laz"), {"cut.laz", "truncated"});
+  std::string bad = whole;
+  const std::uint32_t start = *reinterpret_cast<const std::uint32_t*>(bad.data() + 96);
+  for (std::size_t i = start + 2000; i < start + 4000; ++i) bad[i] = static_cast<char>(bad[i] ^ 0x5a);
+  std::ofstream(dir.path("bad.laz"), std::ios::binary) << bad;
+  expect_error(dir.path("bad.laz"), {"bad.laz", "cannot be decoded", "corrupt"});
+  std::ofstream(dir.path("text.laz")) << "1 2 3\n";
+  expect_error(dir.path("text.laz"), {"not a LAZ file"});
+  // An uncompressed file named .laz is read as the LAS it is.
+  PointCloud small;
+  small.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  io::write_point_cloud(dir.path("plain.las"), small);
+  std::filesystem::copy_file(dir.path("plain.las"), dir.path("plain.laz"));
+  EXPECT_EQ(io::read_point_cloud(dir.path("plain.laz")).size(), 4u);
+}
+
+TEST(ReadText, PtsPointCountLinesArePassedOver) {
+  const TempDir dir;
+  // Leica / CloudCompare .pts: each scan's count on a line of its own, then x y z intensity r g b.
+  std::ofstream(dir.path("scan.pts")) << "3\n1 2 3 -120 10 20 30\n4 5 6 -1 0 0 0\n7 8 10 0 1 1 1\n2\n0 0 0 5 1 1 1\n1 1 1 5 1 1 1\n";
+  const PointCloud c = io::read_point_cloud(dir.path("scan.pts"));
+  ASSERT_EQ(c.size(), 5u);
+  EXPECT_TRUE((c.positions[2] + c.offset).isApprox(Eigen::Vector3d(7, 8, 10)));
+}
+
 TEST(BadInput, EachGetsAClearMessage) {
   const TempDir dir;
   const auto file = [&](const std::string& name, const std::string& content) { return written(dir, name, content); };
@@ -202,7 +249,7 @@ TEST(BadInput, EachGetsAClearMessage) {
   expect_error(file("short.xyz", "1 2 3\n4 5\n"), {"line 2", "at least 3 numbers"});
   expect_error(file("nan.xyz", "1 2 3\nnan 5 6\n"), {"line 2", "not a finite number"});
   expect_error(file("inf.txt", "1 2 3\n4 5 inf\n"), {"line 2", "not a finite number"});
-  expect_error(file("cloud.laz", "LASF"), {"LAZ", "decompress"});
+  expect_error(file("cloud.laz", "LASF"), {"truncated", "shorter than a LAS header"});
   expect_error(file("cloud.obj", "v 1 2 3\n"), {"unknown point cloud extension"});
   expect_error(file("fake.ply", "hello\n"), {"not a PLY file"});
   expect_error(file("noend.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"), {"end_header"});

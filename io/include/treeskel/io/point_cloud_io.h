@@ -4,7 +4,9 @@
 ///                             '#' comments, CRLF accepted, extra columns ignored, optional header)
 ///   .ply                      ascii or binary (either endianness), float or double, with or without
 ///                             normals and colours
-///   .las                      uncompressed LAS 1.0 to 1.4 (.laz is refused with a message)
+///   .las                      LAS 1.0 to 1.4, point formats 0 to 10
+///   .laz                      the same compressed: decompressed by laz-perf (npm) under Node.js into a
+///                             temporary LAS; the message says what is missing when either is
 /// Clouds are moved to a local frame on reading (PointCloud::offset) and back on writing.
 #pragma once
 
@@ -23,7 +25,7 @@ struct CloudWriteOptions {
   bool ply_binary = true;  ///< binary little-endian PLY (else ascii)
 };
 
-/// Writes a cloud in the format of the extension (.xyz .txt .asc .csv .pts .ply .las), atomically.
+/// Writes a cloud in the format of the extension (.xyz .txt .asc .csv .pts .ply .las; not .laz), atomically.
 /// @throws Error for an unknown extension or a failed write; no file is left behind.
 void write_point_cloud(const std::filesystem::path& path, const PointCloud& cloud, const CloudWriteOptions& options = {});
 
