@@ -279,12 +279,7 @@ int run(Settings& s) {
   j["warnings"] = warnings;
   j["seconds"] = {{"skeleton", skeleton_seconds}, {"total", seconds}};
   j["peak_memory_mb"] = peak_memory_mb();
-  try {
-    if (!s.report.empty()) io::write_atomically(report_to, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
-    outputs.commit();
-  } catch (const Error& e) {
-    throw Error(outputs.explain(e.what()));
-  }
+  write_report_and_commit(outputs, report_to, j);
   progress.clear();
   if (s.json) {
     std::cout << j.dump(2) << '\n';

@@ -1,5 +1,8 @@
 #include "report.h"
 
+#include "treeskel/error.h"
+#include "treeskel/io/atomic_file.h"
+
 #include <cmath>
 #include <functional>
 #include <sstream>
@@ -25,6 +28,16 @@ void Progress::operator()(const std::string& stage, double done) {
   std::fprintf(stderr, "\r\033[K[%3d%%] %s", static_cast<int>(done * 100.0 + 0.5), stage.c_str());
   std::fflush(stderr);
   drawn_ = true;
+}
+
+void write_report_and_commit(io::OutputSet& outputs, const std::filesystem::path& report_to,
+                             const nlohmann::ordered_json& report) {
+  try {
+    if (!report_to.empty()) io::write_atomically(report_to, [&](std::ostream& out) { out << report.dump(2) << '\n'; });
+    outputs.commit();
+  } catch (const Error& e) {
+    throw Error(outputs.explain(e.what()));
+  }
 }
 
 std::string format_seconds(double seconds) {

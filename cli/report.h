@@ -1,7 +1,10 @@
 // Small helpers shared by the command-line subcommands: progress on a terminal, timing, messages.
 #pragma once
 
+#include "treeskel/io/output_set.h"
+
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <string>
@@ -30,6 +33,11 @@ public:
 private:
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
+
+/// Writes `report` (when `report_to`, a staged path of `outputs`, is not empty) and commits every output
+/// of the run; a failed write names the file as the user named it.
+void write_report_and_commit(io::OutputSet& outputs, const std::filesystem::path& report_to,
+                             const nlohmann::ordered_json& report);
 
 /// Formats a number of seconds as "0.42 s".
 std::string format_seconds(double seconds);

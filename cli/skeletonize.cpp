@@ -90,12 +90,7 @@ int run(Settings& s) {
   j["forks_moved"] = stats.forks_moved;
   auto& stages = j["stage_seconds"] = nlohmann::ordered_json::object();
   for (const auto& [stage, t] : stats.seconds) stages[stage] = t;
-  try {
-    if (!s.report.empty()) io::write_atomically(report_to, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
-    outputs.commit();
-  } catch (const Error& e) {
-    throw Error(outputs.explain(e.what()));
-  }
+  write_report_and_commit(outputs, report_to, j);
   progress.clear();
 
   if (s.json) {
