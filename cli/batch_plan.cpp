@@ -44,19 +44,33 @@ bool looks_like_cloud(const fs::path& path, const std::string& ext) {
   if (ext == "las" || ext == "laz") return head.rfind("LASF", 0) == 0;
   std::istringstream lines(head);
   std::string line;
+  bool first = true;
   while (std::getline(lines, line)) {
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
     for (char& c : line)
       if (c == ',' || c == ';' || c == '\t' || c == '\r') c = ' ';
     std::istringstream fields(line);
-    std::string field;
+    std::vector<std::string> words;
+    for (std::string field; fields >> field;) words.push_back(field);
+    if (words.empty()) continue;
     int numbers = 0;
-    while (numbers < 3 && fields >> field) {
+    for (const auto& w : words) {
       char* end = nullptr;
-      std::strtod(field.c_str(), &end);
-      if (end == field.c_str() || *end != '\0') break;
-      ++numbers;
+      std::strtod(w.c_str(), &end);
+      if (end == w.c_str() || *end != '\0') break;
+      if (++numbers == 3) return true;
     }
-    if (numbers == 3) return true;
+    // A header line must name x, y and z (as the reader asks); a table of other columns (a QSM's
+    // cylinders, say) is not a cloud.
+    if (first && numbers == 0) {
+      int named = 0;
+      for (auto w : words) {
+        std::transform(w.begin(), w.end(), w.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+        named += w == "x" || w == "y" || w == "z";
+      }
+      if (named < 3) return false;
+    }
+    first = false;
   }
   return false;
 }

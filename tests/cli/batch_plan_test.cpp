@@ -8,6 +8,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 
 namespace treeskel::cli {
 namespace {
@@ -24,8 +26,9 @@ const std::vector<std::string> kExtensions{"xyz", "txt", "las", "ply"};
 TEST(BatchPlan, FoldersAreSearchedAndNameTheOutputsByTheirPathBelow) {
   const test::TempDir dir;
   write(dir.path("plot/a.xyz"), "1 2 3\n");
-  write(dir.path("plot/row2/b.txt"), "x y z\n1,2,3\n");
+  write(dir.path("plot/row2/b.txt"), "# a comment\nX,Y,Z,intensity\n1,2,3,4\n");
   write(dir.path("plot/LICENSE.txt"), "Permission is granted to anyone\n");  // not a cloud
+  write(dir.path("plot/qsm.txt"), "radius,length,start_x\n0.1,1,0\n");     // a table of other columns
   write(dir.path("plot/notes.md"), "1 2 3\n");                              // not an extension of clouds
   write(dir.path("plot/fake.ply"), "1 2 3\n");                              // a .ply that is no PLY
   write(dir.path("plot/.hidden/c.xyz"), "1 2 3\n");
@@ -38,8 +41,9 @@ TEST(BatchPlan, FoldersAreSearchedAndNameTheOutputsByTheirPathBelow) {
   EXPECT_EQ(inputs[1].name, fs::path("row2/b"));
   EXPECT_EQ(inputs[2].name, fs::path("scan7"));
   for (const auto& in : inputs) EXPECT_EQ(in.error, "");
-  ASSERT_EQ(passed_over.size(), 2u);
-  EXPECT_EQ(passed_over[0].filename() == "LICENSE.txt" || passed_over[1].filename() == "LICENSE.txt", true);
+  std::set<std::string> over;
+  for (const auto& p : passed_over) over.insert(p.filename().string());
+  EXPECT_EQ(over, (std::set<std::string>{"LICENSE.txt", "fake.ply", "qsm.txt"}));
 }
 
 TEST(BatchPlan, FilesPatternsAndWhatIsNotThere) {
