@@ -166,44 +166,47 @@ int run(Settings& s) {
   check.self_intersections = sweep_stats.self_intersections;
   check.self_intersections_checked = s.sweep.repair;
   // Several closed components (a limb swept apart that its union did not reach) are written with a
-  // warning: leaving them out would lose the limbs.
+  // warning: leaving them out would lose the limbs. Every warning goes to stderr and into the report.
   modeling::MeshCheck as_one = check;
   as_one.components = 1;
   const bool apart_only = !check.ok() && as_one.ok();
-  if (apart_only && !s.json)
-    std::cerr << "warning: the mesh of " << s.input << " has " << check.components
-              << " closed components: " << check.components - 1
-              << " swept-apart limb(s) do not touch the rest; written as they are\n";
   if (!check.ok() && !apart_only && !s.allow_defects)
     throw Error("the mesh of " + s.input + " failed its check: " + check.problem() +
                 "; nothing was written (--allow-defects writes it anyway)");
-  if (sweep_stats.pieces_failed > 0 && !s.json)
-    std::cerr << "warning: " << sweep_stats.pieces_failed << " limb(s) of " << s.input
-              << (s.sweep.unite_apart ? " could not be united with the tree without the mesh crossing itself"
-                                      : " found no room at their forks (--no-unite)")
-              << " and are left out\n";
-  if (sweep_stats.float_crossings > 0 && !s.json)
-    std::cerr << "warning: rounded to 32-bit floats in the input's frame (as PLY, STL and MeshLab hold it), the mesh of " << s.input << " crosses itself at "
-              << sweep_stats.float_crossings << " face pairs (OBJ keeps full precision; --local writes local coordinates)\n";
+  std::vector<std::string> warnings;
+  auto warn = [&](const auto&... parts) {
+    std::ostringstream w;
+    (w << ... << parts);
+    warnings.push_back(w.str());
+  };
+  if (apart_only)
+    warn("the mesh has ", check.components, " closed components: ", check.components - 1,
+         " swept-apart limb(s) do not touch the rest; written as they are");
+  if (sweep_stats.pieces_failed > 0)
+    warn(sweep_stats.pieces_failed, " limb(s)",
+         s.sweep.unite_apart ? " could not be united with the tree without the mesh crossing itself (or past the union's budget)"
+                             : " found no room at their forks (--no-unite)",
+         " and are left out");
+  if (sweep_stats.float_crossings > 0)
+    warn("rounded to 32-bit floats in the input's frame (as PLY, STL and MeshLab hold it), the mesh crosses itself at ",
+         sweep_stats.float_crossings, " face pairs (OBJ keeps full precision; --local writes local coordinates)");
   // How much of the skeleton the mesh holds: a valid mesh can still leave limbs out.
   const modeling::SkeletonCoverage coverage = modeling::skeleton_coverage(skeleton, mesh);
-  if (coverage.share() < kCoverageWarning && !s.json)
-    std::cerr << "warning: the mesh of " << s.input << " holds only " << std::lround(100.0 * coverage.share())
-              << "% of the skeleton's length (" << coverage.inside_length << " of " << coverage.length << ")\n";
+  if (coverage.share() < kCoverageWarning)
+    warn("the mesh holds only ", std::lround(100.0 * coverage.share()), "% of the skeleton's length (",
+         coverage.inside_length, " of ", coverage.length, ")");
   modeling::MeasureOptions mo;
   mo.up = up;
   mo.breast_height = s.breast_height;
   mo.dbh_from_points = !s.dbh_from_model;
   const modeling::TreeMeasurements measurements = modeling::measure_tree(skeleton, cloud ? &*cloud : nullptr, mo);
-  std::vector<std::string> warnings = sanity_warnings(skeleton, up, measurements, s.breast_height);
-  if (measurements.volume > 0.0 && check.volume < kVolumeWarning * measurements.volume) {
-    std::ostringstream w;
-    w << "the mesh's volume is " << std::lround(100.0 * check.volume / measurements.volume)
-      << "% of the wood volume reported (the frustums of the fitted radii, " << measurements.volume << "; the mesh "
-      << check.volume << "): frustums of branches that overlap count twice, and " << sweep_stats.joins_thinned
-      << " join(s) and " << sweep_stats.repaired_shrunk << " branch(es) with what they carry were thinned to keep the mesh from crossing itself";
-    warnings.push_back(w.str());
-  }
+  for (auto& w : sanity_warnings(skeleton, up, measurements, s.breast_height)) warnings.push_back(std::move(w));
+  if (measurements.volume > 0.0 && check.volume < kVolumeWarning * measurements.volume)
+    warn("the mesh's volume is ", std::lround(100.0 * check.volume / measurements.volume),
+         "% of the wood volume reported (the frustums of the fitted radii, ", measurements.volume, "; the mesh ",
+         check.volume, "): frustums of branches that overlap count twice, and ", sweep_stats.joins_thinned,
+         " join(s) and ", sweep_stats.repaired_shrunk,
+         " branch(es) with what they carry were thinned to keep the mesh from crossing itself");
   if (!s.json)
     for (const auto& w : warnings) std::cerr << "warning: " << s.input << ": " << w << '\n';
 
