@@ -164,10 +164,10 @@ bool complete(Row& row) {
   std::error_code ec;
   for (const auto& p : row.outputs)
     if (!fs::is_regular_file(p, ec)) return false;
-  Row probe = row;
-  if (!read_report(probe)) return false;
-  row.facts = std::move(probe.facts);
-  return true;
+  if (read_report(row)) return true;
+  row.facts = nullptr;  // not complete after all: converted again
+  row.error.clear();
+  return false;
 }
 
 void finish(Row& row, int status, const fs::path& log, bool stopping) {
@@ -218,8 +218,10 @@ nlohmann::ordered_json row_json(const Row& r) {
   j["name"] = r.input.name.string();
   j["status"] = r.status;
   j["resumed"] = r.resumed;
-  j["seconds"] = r.status == "ok" ? fact(P("/seconds/total")).is_null() ? fact(P("/seconds")) : fact(P("/seconds/total"))
-                                  : nlohmann::ordered_json(r.seconds);
+  // A converted tree's own time (its report's: `model` gives seconds.total, `skeletonize` seconds),
+  // else the time its process ran.
+  const auto own = f.is_object() && f.contains(P("/seconds/total")) ? fact(P("/seconds/total")) : fact(P("/seconds"));
+  j["seconds"] = r.status == "ok" ? own : nlohmann::ordered_json(r.seconds);
   j["points"] = fact(P("/points"));
   j["nodes"] = fact(P("/nodes"));
   j["height"] = fact(P("/measurements/height"));

@@ -171,8 +171,7 @@ void save_whole(const std::filesystem::path& path, const std::string& what, Writ
   }
 }
 
-PySkeleton extract(const py::object& points, const py::kwargs& kwargs) {
-  const Options o = parse_options(kwargs, true, false, "extract_skeleton");
+PySkeleton extract(const py::object& points, const Options& o) {
   PySkeleton out;
   out.cloud = cloud_from(points);
   const SkeletonOptions options = cli::skeleton_options_for(o.method, out.cloud->cloud);
@@ -372,7 +371,7 @@ PYBIND11_MODULE(_treeskel, m) {
   }, py::arg("path"), py::arg("up") = "z", "Reads a skeleton (.json, or .ply with edges) written by treeskel");
 
   m.def("extract_skeleton", [](const py::object& points, const py::kwargs& kwargs) {
-    return std::make_shared<PySkeleton>(extract(points, kwargs));
+    return std::make_shared<PySkeleton>(extract(points, parse_options(kwargs, true, false, "extract_skeleton")));
   }, py::arg("points"),
         "The curve skeleton of a tree. `points`: an (N, 3) array, a file name or a Cloud; keyword "
         "arguments: the options of `treeskel skeletonize` (up='y', cell_points=3, no_cpc=True, ...)");
@@ -419,14 +418,7 @@ PYBIND11_MODULE(_treeskel, m) {
   m.def("model", [](const py::object& points, const py::kwargs& kwargs) {
     // The method's and the model's options together, as `treeskel model` takes them.
     const Options o = parse_options(kwargs, true, true, "model");
-    py::kwargs method;
-    for (const auto& [key, value] : kwargs) {
-      CLI::App probe;
-      cli::SkeletonSettings unused;
-      cli::add_skeleton_options(probe, unused);
-      if (probe.get_option_no_throw(flag_of(py::str(key)))) method[key] = value;
-    }
-    auto s = std::make_shared<PySkeleton>(with_radii(extract(points, method), o));
+    auto s = std::make_shared<PySkeleton>(with_radii(extract(points, o), o));
     Mesh mesh = sweep(s, o);
     py::object measured = measurements(*s, o);
     return py::make_tuple(s, std::move(mesh), measured);
