@@ -1,6 +1,7 @@
 // treeskel model INPUT -o tree.glb: cloud (or saved skeleton) -> skeleton -> radii -> mesh.
 #include "commands.h"
 #include "model_options.h"
+#include "model_warnings.h"
 #include "report.h"
 #include "skeleton_options.h"
 
@@ -32,20 +33,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Below this share of the skeleton's length inside the mesh, the summary warns.
-constexpr double kCoverageWarning = 0.95;
-/// Below this share of the wood volume (the frustums of the fitted radii, which the summary reports)
-/// in the mesh, the summary warns: the model is much thinner than the measurements. Frustums that
-/// overlap (at forks, in crowded crowns) count twice, and the repair thins branches, the trunk too at
-/// times; most synthetic trees give 0.78-1.0.
-constexpr double kVolumeWarning = 0.7;
-/// Sanity warnings: a tree this many times wider than tall, taller than this (the tallest known
-/// trees are about 116 m), a DBH over this (the widest trunks are about 11 m across, but a DBH over
-/// 3 m is rare enough to check).
-constexpr double kUpAxisRatio = 1.5;
-constexpr double kTallestTree = 150.0;
-constexpr double kWidestTrunk = 3.0;
-
 struct Settings : ModelSettings {
   std::string input;
   std::string output;
@@ -56,46 +43,6 @@ struct Settings : ModelSettings {
   bool quiet = false;
   SkeletonSettings method;
 };
-
-/// What looks wrong about the input, from the skeleton's extent and the measurements: an up axis
-/// along which the tree is much shorter than across, units that are not metres, a trunk no real
-/// tree has.
-std::vector<std::string> sanity_warnings(const Skeleton& skeleton, const Eigen::Vector3d& up,
-                                         const modeling::TreeMeasurements& m, double breast_height) {
-  std::vector<std::string> out;
-  Eigen::AlignedBox3d box;
-  for (NodeId v = 0; v < skeleton.node_count(); ++v) box.extend(skeleton[v].position);
-  if (box.isEmpty()) return out;
-  const Eigen::Vector3d size = box.sizes();
-  const Eigen::Vector3d u = up.normalized();
-  double along = 0.0, across = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    const double share = std::abs(u[a]);
-    along += share * size[a];
-    across = std::max(across, (1.0 - share) * size[a]);
-  }
-  if (across > kUpAxisRatio * along) {
-    std::ostringstream w;
-    w << "the tree is " << across / along << " times wider than tall along the up axis: if it grows along another "
-      << "axis, say so with --up (e.g. --up y)";
-    out.push_back(w.str());
-  }
-  if (m.height > kTallestTree) {
-    std::ostringstream w;
-    w << "the tree is " << m.height << " units tall: if the units are centimetres or millimetres, the breast height ("
-      << breast_height << ") and every default in metres are wrong; convert the cloud or set --breast-height";
-    out.push_back(w.str());
-  }
-  if (m.dbh && *m.dbh > kWidestTrunk) {
-    std::ostringstream w;
-    w << "a DBH of " << *m.dbh << " is over " << kWidestTrunk << ", rare in any tree: check the units, the up axis, "
-      << "or whether this is a tree (an airborne scan of a crown has no trunk to measure)";
-    out.push_back(w.str());
-  }
-  if (!m.dbh && m.height > 0.0 && m.height < breast_height)
-    out.push_back("the tree is shorter than breast height, so it has no DBH");
-  return out;
-}
 
 int run(Settings& s) {
   Stopwatch clock;
@@ -167,46 +114,17 @@ int run(Settings& s) {
   check.self_intersections_checked = s.sweep.repair;
   // Several closed components (a limb swept apart that its union did not reach) are written with a
   // warning: leaving them out would lose the limbs. Every warning goes to stderr and into the report.
-  modeling::MeshCheck as_one = check;
-  as_one.components = 1;
-  const bool apart_only = !check.ok() && as_one.ok();
-  if (!check.ok() && !apart_only && !s.allow_defects)
+  if (!check.ok() && !only_apart(check) && !s.allow_defects)
     throw Error("the mesh of " + s.input + " failed its check: " + check.problem() +
                 "; nothing was written (--allow-defects writes it anyway)");
-  std::vector<std::string> warnings;
-  auto warn = [&](const auto&... parts) {
-    std::ostringstream w;
-    (w << ... << parts);
-    warnings.push_back(w.str());
-  };
-  if (apart_only)
-    warn("the mesh has ", check.components, " closed components: ", check.components - 1,
-         " swept-apart limb(s) do not touch the rest; written as they are");
-  if (sweep_stats.pieces_failed > 0)
-    warn(sweep_stats.pieces_failed, " limb(s)",
-         s.sweep.unite_apart ? " could not be united with the tree without the mesh crossing itself (or past the union's budget)"
-                             : " found no room at their forks (--no-unite)",
-         " and are left out");
-  if (sweep_stats.float_crossings > 0)
-    warn("rounded to 32-bit floats in the input's frame (as PLY, STL and MeshLab hold it), the mesh crosses itself at ",
-         sweep_stats.float_crossings, " face pairs (OBJ keeps full precision; --local writes local coordinates)");
-  // How much of the skeleton the mesh holds: a valid mesh can still leave limbs out.
   const modeling::SkeletonCoverage coverage = modeling::skeleton_coverage(skeleton, mesh);
-  if (coverage.share() < kCoverageWarning)
-    warn("the mesh holds only ", std::lround(100.0 * coverage.share()), "% of the skeleton's length (",
-         coverage.inside_length, " of ", coverage.length, ")");
   modeling::MeasureOptions mo;
   mo.up = up;
   mo.breast_height = s.breast_height;
   mo.dbh_from_points = !s.dbh_from_model;
   const modeling::TreeMeasurements measurements = modeling::measure_tree(skeleton, cloud ? &*cloud : nullptr, mo);
-  for (auto& w : sanity_warnings(skeleton, up, measurements, s.breast_height)) warnings.push_back(std::move(w));
-  if (measurements.volume > 0.0 && check.volume < kVolumeWarning * measurements.volume)
-    warn("the mesh's volume is ", std::lround(100.0 * check.volume / measurements.volume),
-         "% of the wood volume reported (the frustums of the fitted radii, ", measurements.volume, "; the mesh ",
-         check.volume, "): frustums of branches that overlap count twice, and ", sweep_stats.joins_thinned,
-         " join(s) and ", sweep_stats.repaired_shrunk,
-         " branch(es) with what they carry were thinned to keep the mesh from crossing itself");
+  const std::vector<std::string> warnings =
+      model_warnings({skeleton, up, measurements, s.breast_height, check, sweep_stats, coverage, s.sweep.unite_apart});
   if (!s.json)
     for (const auto& w : warnings) std::cerr << "warning: " << s.input << ": " << w << '\n';
 

@@ -1,6 +1,8 @@
 // The plugin's calls into the library (C++17). Nothing here is MeshLab's: plain arrays in and out.
 #include "bridge.h"
 
+#include "model_warnings.h"
+
 #include "treeskel/error.h"
 #include "treeskel/modeling/coverage.h"
 #include "treeskel/modeling/measurements.h"
@@ -190,7 +192,7 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
     modeling::MeshCheck check = modeling::check_mesh(mesh, false);
     check.self_intersections = stats.self_intersections;
     check.self_intersections_checked = so.repair;
-    if (!check.ok() && !mp.allow_defects)
+    if (!check.ok() && !cli::only_apart(check) && !mp.allow_defects)
       throw Error("the tree mesh failed its check: " + check.problem() + " (\"Keep a defective mesh\" adds it anyway)");
 
     MeshLayer layer;
@@ -221,6 +223,7 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
     if (stats.thin_left_out + stats.pieces_failed > 0)
       summary << "; " << stats.thin_left_out + stats.pieces_failed << " branches left out";
     layer.summary = summary.str();
+    layer.warnings = cli::model_warnings({skeleton, mo.up, m, mp.breast_height, check, stats, coverage, so.unite_apart});
     report(progress, "done", 1.0, 0, 100);
     out = std::move(layer);
   });

@@ -65,6 +65,7 @@ struct MeshLayer {
   std::vector<double> xyz;
   std::vector<int> triangles;
   std::string summary;
+  std::vector<std::string> warnings;  ///< for MeshLab's log, as `treeskel model` warns
 };
 
 /// Skeleton of the cloud `xyz`, with radii fitted by the pipe model. Returns false with `error` set
@@ -72,8 +73,9 @@ struct MeshLayer {
 bool tree_skeleton(const std::vector<double>& xyz, const SkeletonParams& skeleton, const ModelParams& model,
                    ProgressFn progress, SkeletonLayer& out, std::string& error);
 
-/// The watertight branch mesh of the cloud `xyz`. A mesh that fails its checks (closed, manifold, one
-/// component, no self-intersection) is an error unless `model.allow_defects`.
+/// The watertight branch mesh of the cloud `xyz`. A mesh that fails its checks (closed, manifold, no
+/// self-intersection) is an error unless `model.allow_defects`; one whose only fault is a swept-apart
+/// limb lying beside the tree (several closed components) is kept, with a warning.
 bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& skeleton, const ModelParams& model,
                ProgressFn progress, MeshLayer& out, std::string& error);
 

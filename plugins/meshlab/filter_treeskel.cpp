@@ -237,6 +237,7 @@ bool FilterTreeskelPlugin::applyFilter(QAction* action, MeshDocument& document, 
     for (int k = 0; k < 3; ++k) face->V(k) = &*(first + result.triangles[t + k]);
   layer->UpdateBoxAndNormals();
   Log("%s", result.summary.c_str());
+  for (const auto& w : result.warnings) Log(GLLogStream::WARNING, "treeskel: warning: %s", w.c_str());
   return true;
 }
 

@@ -137,6 +137,21 @@ TEST(MeshlabBridge, MeshLayerIsClosedAndOriented) {
   EXPECT_NE(layer.summary.find("closed, manifold, no self-intersection"), std::string::npos);
 }
 
+TEST(MeshlabBridge, MeshLayerCarriesTheCommandsWarnings) {
+  // The bundled tree at a fifth of its size: 0.74 tall, shorter than breast height.
+  std::vector<double> xyz = flat_cloud("tree_rtwig.txt");
+  for (double& c : xyz) c *= 0.2;
+  MeshLayer layer;
+  std::string error;
+  ASSERT_TRUE(tree_mesh(xyz, default_skeleton_params(), default_model_params(), nullptr, layer, error)) << error;
+  ASSERT_FALSE(layer.warnings.empty());
+  EXPECT_NE(layer.warnings.front().find("shorter than breast height"), std::string::npos) << layer.warnings.front();
+  // The bundled tree as it is: nothing to warn about.
+  MeshLayer plain;
+  ASSERT_TRUE(tree_mesh(flat_cloud("tree_rtwig.txt"), default_skeleton_params(), default_model_params(), nullptr, plain, error));
+  EXPECT_TRUE(plain.warnings.empty()) << plain.warnings.front();
+}
+
 TEST(MeshlabBridge, CloudsTheMethodCannotUseAreErrorsNotExceptions) {
   SkeletonLayer skeleton;
   MeshLayer mesh;

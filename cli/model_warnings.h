@@ -1,0 +1,41 @@
+// What a model's user should be told about it, the same from every front end: the command's stderr
+// and report, `batch`'s summary, MeshLab's log. Apart from the options so that the MeshLab plugin
+// can take it without the command line's dependencies.
+#pragma once
+
+#include "treeskel/modeling/coverage.h"
+#include "treeskel/modeling/measurements.h"
+#include "treeskel/modeling/sweep.h"
+#include "treeskel/modeling/tree_mesh.h"
+#include "treeskel/skeleton.h"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace treeskel::cli {
+
+/// A mesh whose only fault is several components, each closed (a limb swept apart that its union
+/// did not reach): written with a warning, since leaving the limbs out would lose them.
+bool only_apart(const modeling::MeshCheck& check);
+
+/// What a model is made of, for `model_warnings`.
+struct ModelOutcome {
+  const Skeleton& skeleton;
+  Eigen::Vector3d up;
+  const modeling::TreeMeasurements& measurements;
+  double breast_height;
+  const modeling::MeshCheck& check;
+  const modeling::SweepStats& sweep;
+  const modeling::SkeletonCoverage& coverage;
+  bool unite_apart;
+};
+
+/// What the user of a model should be told, one sentence each (without the input's name): limbs
+/// apart or left out, a mesh that crosses itself once in floats, less than 95% of the skeleton or
+/// 70% of the wood volume in the mesh, an up axis or units that look wrong, a DBH no tree has.
+/// Every front end (the command's stderr and report, MeshLab's log) says the same.
+std::vector<std::string> model_warnings(const ModelOutcome& outcome);
+
+}  // namespace treeskel::cli
