@@ -10,6 +10,7 @@
 #include "treeskel/io/atomic_file.h"
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
+#include "treeskel/view/html.h"
 
 #include <nlohmann/json.hpp>
 
@@ -48,6 +49,9 @@ struct Settings {
   std::string out_dir;
   std::string model;     // mesh format ("" for none)
   std::string skeleton;  // skeleton format ("" for none)
+  bool html = false;     // a page per tree, and index.html
+  bool preview = false;  // a PNG per tree (shown in index.html)
+  std::size_t html_points = 0;  // passed on as given
   unsigned jobs = 0;
   bool resume = false;
   std::string shard;
@@ -100,6 +104,8 @@ std::vector<fs::path> outputs_of(const Settings& s, const BatchInput& in) {
   std::vector<fs::path> out;
   if (!s.model.empty()) out.push_back(output_path(s, in, "." + s.model));
   if (!s.skeleton.empty()) out.push_back(output_path(s, in, "_skeleton." + s.skeleton));
+  if (s.html) out.push_back(output_path(s, in, ".html"));
+  if (s.preview) out.push_back(output_path(s, in, ".png"));
   out.push_back(output_path(s, in, "_report.json"));
   return out;
 }
@@ -112,6 +118,8 @@ std::vector<std::string> command_for(const Settings& s, const Row& row, unsigned
   } else {
     args.insert(args.end(), {"skeletonize", row.input.path.string(), "-o", row.outputs[0].string()});
   }
+  if (s.html) args.insert(args.end(), {"--html", output_path(s, row.input, ".html").string()});
+  if (s.preview) args.insert(args.end(), {"--preview", output_path(s, row.input, ".png").string()});
   args.insert(args.end(), {"--report", row.report.string(), "-q"});
   append_given(s.passed, args);
   return args;
@@ -253,6 +261,59 @@ std::string csv_text(const nlohmann::ordered_json& v) {
   return v.dump();
 }
 
+/// A number of the summary as the index shows it ("" for none).
+std::string index_number(const nlohmann::ordered_json& v, int digits = 3) {
+  if (!v.is_number()) return "";
+  std::ostringstream out;
+  out.precision(digits);
+  out << v.get<double>();
+  return out.str();
+}
+
+/// The index of a batch's pages (index.html, or index-I-of-N.html for a shard): one row per tree with
+/// its preview, its numbers and a link to its page. Links are relative: the folder can be moved.
+void write_index(const Settings& s, const nlohmann::ordered_json& doc, const fs::path& summary_html) {
+  const fs::path index = summary_html.parent_path() /
+                         (summary_html.stem().string() == "summary" ? std::string("index.html")
+                                                                    : "index" + summary_html.stem().string().substr(7) + ".html");
+  auto relative = [&](const std::string& name, const std::string& suffix) {
+    return view::escape_html(fs::path(name + suffix).generic_string());
+  };
+  io::write_atomically(index, [&](std::ostream& out) {
+    out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>treeskel batch: "
+        << view::escape_html(s.out_dir) << "</title>\n<style>\n"
+        << "body { font: 14px/1.4 system-ui, sans-serif; margin: 20px; color: #222; }\n"
+        << "table { border-collapse: collapse; } th, td { padding: 6px 10px; border-bottom: 1px solid #ddd; text-align: left; vertical-align: top; }\n"
+        << "td.n { text-align: right; } img { width: 320px; display: block; } .failed { color: #b00; } .warn { color: #9a3412; font-size: 12px; }\n"
+        << "</style>\n</head>\n<body>\n<h1>treeskel batch</h1>\n<p>" << doc["converted"].get<std::size_t>() << " of "
+        << doc["inputs"].get<std::size_t>() << " trees converted, " << doc["failed"].get<std::size_t>() << " failed, "
+        << doc["not_run"].get<std::size_t>() << " not run. Distances in the inputs' units. "
+        << "<a href=\"" << view::escape_html(summary_html.stem().string()) << ".csv\">" << view::escape_html(summary_html.stem().string())
+        << ".csv</a></p>\n<table>\n<tr>" << (s.preview ? "<th>preview</th>" : "")
+        << "<th>tree</th><th>status</th><th>points</th><th>height</th><th>DBH</th><th>volume</th><th>skeleton inside</th><th>warnings</th></tr>\n";
+    for (const auto& t : doc["trees"]) {
+      const std::string name = t["name"].get<std::string>();
+      const bool ok = t["status"] == "ok";
+      out << "<tr>";
+      if (s.preview)
+        out << "<td>" << (ok ? "<a href=\"" + relative(name, ".html") + "\"><img src=\"" + relative(name, ".png") + "\" alt=\"\"></a>" : "")
+            << "</td>";
+      out << "<td>" << (ok ? "<a href=\"" + relative(name, ".html") + "\">" + view::escape_html(name) + "</a>" : view::escape_html(name))
+          << "<br><small>" << view::escape_html(t["input"].get<std::string>()) << "</small></td>";
+      out << "<td" << (ok ? "" : " class=\"failed\"") << ">" << view::escape_html(t["status"].get<std::string>());
+      if (!t["error"].is_null()) out << "<br><small>" << view::escape_html(t["error"].get<std::string>()) << "</small>";
+      out << "</td><td class=\"n\">" << (t["points"].is_number() ? std::to_string(t["points"].get<std::size_t>()) : "")
+          << "</td><td class=\"n\">" << index_number(t["height"]) << "</td><td class=\"n\">" << index_number(t["dbh"])
+          << "</td><td class=\"n\">" << index_number(t["volume"]) << "</td><td class=\"n\">"
+          << (t["skeleton_coverage"].is_number() ? index_number(100.0 * t["skeleton_coverage"].get<double>(), 3) + "%" : "")
+          << "</td><td class=\"warn\">";
+      for (const auto& w : t["warnings"]) out << view::escape_html(w.get<std::string>()) << "<br>";
+      out << "</td></tr>\n";
+    }
+    out << "</table>\n</body>\n</html>\n";
+  });
+}
+
 void write_summary(const Settings& s, const std::vector<Row>& rows, const fs::path& csv, const fs::path& json) {
   nlohmann::ordered_json all = nlohmann::ordered_json::array();
   for (const auto& r : rows) all.push_back(row_json(r));
@@ -279,6 +340,7 @@ void write_summary(const Settings& s, const std::vector<Row>& rows, const fs::pa
   doc["not_run"] = rows.size() - ok - failed;
   doc["trees"] = std::move(all);
   io::write_atomically(json, [&](std::ostream& out) { out << doc.dump(2) << '\n'; });
+  if (s.html) write_index(s, doc, fs::path(json).replace_extension(".html"));
 }
 
 std::string format_duration(double seconds) {
@@ -328,6 +390,8 @@ int run(Settings& s) {
   if (s.model.empty())
     for (const CLI::Option* o : s.model_only)
       if (o->count() > 0) throw OptionError(o->get_name() + " shapes the model: add --model FORMAT, or leave it out");
+  if (s.preview && view::find_chromium().empty())
+    throw OptionError("--preview needs Chromium: apt-get install chromium (or set TREESKEL_CHROMIUM to a Chrome or Chromium)");
   const Shard shard = s.shard.empty() ? Shard{} : parse_shard(s.shard);
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const unsigned jobs = s.jobs > 0 ? s.jobs : cores;
@@ -501,6 +565,11 @@ Command add_batch(CLI::App& app) {
   c->add_option("--skeleton", s->skeleton,
                 "Also write each tree's skeleton in this format: json, ply or obj (alone: skeletons only, "
                 "no model)");
+  c->add_flag("--html", s->html,
+              "Also write each tree's page (NAME.html: cloud, skeleton, mesh and report, opens from disk) and "
+              "index.html, a table of the trees linking to them");
+  c->add_flag("--preview", s->preview, "Also render each tree's NAME.png (side and top views; needs Chromium), "
+                                       "shown in index.html with --html");
   c->add_option("-j,--jobs", s->jobs, "Trees converted at once (0: as many as cores; each gets cores/jobs threads)")
       ->default_val(0)->check(CLI::Range(0u, 1024u));
   c->add_flag("--resume", s->resume,
@@ -514,6 +583,8 @@ Command add_batch(CLI::App& app) {
   add_model_options(*c, s->model_settings);
   const auto with_model = c->get_options();
   add_skeleton_options(*c, s->method);
+  c->add_option("--html-points", s->html_points, "With --html or --preview: at most this many of a cloud's points in its page")
+      ->check(CLI::PositiveNumber);
   for (const CLI::Option* o : c->get_options()) {
     if (std::find(before.begin(), before.end(), o) != before.end()) continue;
     s->passed.push_back(o);

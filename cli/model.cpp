@@ -4,6 +4,7 @@
 #include "model_warnings.h"
 #include "report.h"
 #include "skeleton_options.h"
+#include "view_options.h"
 
 #include "treeskel/error.h"
 #include "treeskel/io/atomic_file.h"
@@ -42,6 +43,7 @@ struct Settings : ModelSettings {
   bool json = false;
   bool quiet = false;
   SkeletonSettings method;
+  ViewSettings view;
 };
 
 int run(Settings& s) {
@@ -62,6 +64,7 @@ int run(Settings& s) {
   const fs::path report_to = s.report.empty() ? fs::path() : outputs.stage(s.report, "--report");
   const fs::path qsm_to = s.qsm.empty() ? fs::path() : outputs.stage(s.qsm, "--qsm");
   const fs::path skeleton_to = s.skeleton_out.empty() ? fs::path() : outputs.stage(s.skeleton_out, "--skeleton");
+  const ViewOutputs view_outputs(s.view, outputs);
 
   Progress progress(s.quiet || s.json);
   progress("reading " + fs::path(s.input).filename().string(), 0.0);
@@ -200,6 +203,22 @@ int run(Settings& s) {
   j["warnings"] = warnings;
   j["seconds"] = {{"skeleton", skeleton_seconds}, {"total", seconds}};
   j["peak_memory_mb"] = peak_memory_mb();
+  if (view_outputs.wanted()) {
+    progress("writing the page", 0.97);
+    view::Scene scene;
+    scene.title = fs::path(s.input).filename().string();
+    if (cloud) {
+      scene.cloud = &*cloud;
+      scene.classes = view::point_classes(*cloud, skeleton);
+    }
+    for (const auto& c : measurements.cylinders)
+      scene.skeleton.push_back({c.start, c.start + c.axis * c.length, c.order, c.radius});
+    scene.mesh = &mesh;
+    scene.mesh_offset = skeleton.offset;
+    scene.up = up;
+    scene.report = j;
+    view_outputs.write(scene);
+  }
   write_report_and_commit(outputs, report_to, j);
   progress.clear();
   if (s.json) {
@@ -237,6 +256,7 @@ Command add_model(CLI::App& app) {
   c->add_option("--report", s->report, "Also write the measurements and mesh checks as JSON to this file");
   c->add_option("--qsm", s->qsm, "Also write the cylinder table (QSM columns) as CSV to this file");
   c->add_option("--skeleton", s->skeleton_out, "Also write the skeleton with its fitted radii (.ply, .obj or .json)");
+  add_view_options(c, s->view);
   c->add_flag("--json", s->json, "Print the JSON report on stdout instead of the summary");
   c->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
   add_model_options(*c, *s);

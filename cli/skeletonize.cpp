@@ -2,6 +2,7 @@
 #include "commands.h"
 #include "report.h"
 #include "skeleton_options.h"
+#include "view_options.h"
 
 #include "treeskel/error.h"
 #include "treeskel/io/atomic_file.h"
@@ -30,6 +31,7 @@ struct Settings {
   bool json = false;
   bool quiet = false;
   SkeletonSettings method;
+  ViewSettings view;
 };
 
 int run(Settings& s) {
@@ -43,6 +45,7 @@ int run(Settings& s) {
   io::OutputSet outputs({fs::path(s.input)});
   const fs::path output_to = outputs.stage(s.output, "-o");
   const fs::path report_to = s.report.empty() ? fs::path() : outputs.stage(s.report, "--report");
+  const ViewOutputs view_outputs(s.view, outputs);
 
   Progress progress(s.quiet || s.json);
   progress("reading " + fs::path(s.input).filename().string(), 0.0);
@@ -90,6 +93,17 @@ int run(Settings& s) {
   j["forks_moved"] = stats.forks_moved;
   auto& stages = j["stage_seconds"] = nlohmann::ordered_json::object();
   for (const auto& [stage, t] : stats.seconds) stages[stage] = t;
+  if (view_outputs.wanted()) {
+    progress("writing the page", 0.98);
+    view::Scene scene;
+    scene.title = fs::path(s.input).filename().string();
+    scene.cloud = &cloud;
+    scene.classes = view::point_classes(cloud, skeleton);
+    scene.skeleton = view::skeleton_segments(skeleton);
+    scene.up = parse_up(s.method.up);
+    scene.report = j;
+    view_outputs.write(scene);
+  }
   write_report_and_commit(outputs, report_to, j);
   progress.clear();
 
@@ -127,6 +141,7 @@ Command add_skeletonize(CLI::App& app) {
   c->add_option("input", s->input, "Point cloud to skeletonize (default: the bundled example tree)");
   c->add_option("-o,--output", s->output, "Skeleton file to write (default: INPUT_skeleton.ply in this folder)");
   c->add_option("--report", s->report, "Also write the JSON report (what --json prints) to this file");
+  add_view_options(c, s->view);
   c->add_flag("--json", s->json, "Print a machine-readable JSON report on stdout instead of the summary");
   c->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
 

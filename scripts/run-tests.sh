@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Quick start 2: installs what is missing, builds, and runs the whole test suite in parallel:
-#   1. every test (unit, end-to-end, MeshLab under Xvfb, glTF validator, the Python package with
-#      pytest and a local Dask cluster) in build/;
+#   1. every test (unit, end-to-end, MeshLab under Xvfb, glTF validator, the --html pages in headless
+#      Chromium, the Python package with pytest and a local Dask cluster) in build/;
 #   2. the unit and end-to-end tests again in an AddressSanitizer + UndefinedBehaviorSanitizer build
 #      (float-cast-overflow too; any report fails the test) in build-asan/;
 #   3. each reader's fuzz target for a short time (scripts/fuzz.sh; TREESKEL_FUZZ_SECONDS, default 20).
@@ -20,7 +20,7 @@ if [ "${1:-}" = --quick ]; then
 fi
 failed=()
 # 1. The suite, with the MeshLab plugin's tests in the real (headless) MeshLab and the Python package's.
-TREESKEL_MESHLAB_PLUGIN=1 TREESKEL_PYTHON=1 "$here/scripts/setup.sh"
+TREESKEL_MESHLAB_PLUGIN=1 TREESKEL_PYTHON=1 TREESKEL_BROWSER=1 "$here/scripts/setup.sh"
 echo "run-tests: the whole suite" >&2
 ctest --test-dir "$build" -j "$jobs" --output-on-failure "$@" || failed+=("the suite (build/)")
 

@@ -7,6 +7,8 @@
 #                                      Xvfb, and MeshLab's headers from its source package
 #        TREESKEL_PYTHON=1             also the Python package and its tests: pybind11, Debian's python3
 #                                      with numpy, pytest and dask.distributed
+#        TREESKEL_BROWSER=1            also Debian's Chromium: --preview's PNG pictures, and the tests that
+#                                      open the --html pages in a real (headless) browser
 #        TREESKEL_BUILD_TARGET=name    build this target only
 #        TREESKEL_EXTRA_PACKAGES="a b" also these Debian packages (e.g. clang for scripts/fuzz.sh)
 #        TREESKEL_INSTALL_ONLY=1       install what is missing and stop (no build)
@@ -31,7 +33,7 @@ apt_install() {
 
 packages=(build-essential cmake pkg-config
           libcgal-dev libeigen3-dev libopenmesh-dev libassimp-dev libboost-graph-dev libtbb-dev
-          libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev)
+          libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev)
 meshlab=${TREESKEL_MESHLAB_PLUGIN:-0}
 if [ "$meshlab" = 1 ]; then
   packages+=(meshlab qtbase5-dev libqt5opengl5-dev libglew-dev dpkg-dev xvfb xauth xdotool)
@@ -40,6 +42,7 @@ python=${TREESKEL_PYTHON:-0}
 if [ "$python" = 1 ]; then
   packages+=(pybind11-dev python3-dev python3-numpy python3-pytest python3-distributed)
 fi
+[ "${TREESKEL_BROWSER:-0}" = 1 ] && packages+=(chromium fonts-dejavu-core)
 read -r -a extra <<< "${TREESKEL_EXTRA_PACKAGES:-}"
 packages+=("${extra[@]}")
 missing=()
@@ -50,13 +53,17 @@ done
 [ "${TREESKEL_INSTALL_ONLY:-0}" = 1 ] && exit 0
 
 # Node tools from npm (tools/package.json): laz-perf, the LAZ decoder the readers run for .laz files
-# (Debian has no LAZ library), and the Khronos glTF validator the test suite checks exported glTF
-# with (not needed when building a single target, e.g. the plugin alone).
-if [ -z "${TREESKEL_BUILD_TARGET:-}" ]; then
+# (Debian has no LAZ library); three.js and esbuild, which the build bundles into the --html pages'
+# script; the Khronos glTF validator and playwright-core, which the tests check exported glTF and the
+# pages with (not needed when building the MeshLab plugin alone).
+if [ "${TREESKEL_BUILD_TARGET:-}" != filter_treeskel ]; then
   if ! command -v node >/dev/null || ! command -v npm >/dev/null; then apt_install nodejs npm; fi
-  if command -v npm >/dev/null && { [ ! -f "$here/tools/node_modules/gltf-validator/package.json" ] ||
-                                    [ ! -f "$here/tools/node_modules/laz-perf/package.json" ]; }; then
-    echo "setup: installing laz-perf and the glTF validator (npm) into tools/" >&2
+  missing_npm=0
+  for m in gltf-validator laz-perf three esbuild playwright-core; do
+    [ -f "$here/tools/node_modules/$m/package.json" ] || missing_npm=1
+  done
+  if command -v npm >/dev/null && [ "$missing_npm" = 1 ]; then
+    echo "setup: installing laz-perf, three.js, esbuild, the glTF validator and playwright-core (npm) into tools/" >&2
     (cd "$here/tools" && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
   fi
 fi

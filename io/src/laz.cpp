@@ -5,21 +5,13 @@
 #include "input_file.h"
 
 #include "treeskel/error.h"
-
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
+#include "treeskel/io/run_program.h"
 
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
-#include <vector>
-
-extern char** environ;
+#include <string>
 
 namespace treeskel::io::detail {
 
@@ -47,14 +39,6 @@ struct TempFolder {
   }
 };
 
-std::string last_line(const fs::path& file) {
-  std::ifstream in(file);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  return last;
-}
-
 }  // namespace
 
 PointCloud read_laz(const fs::path& path, std::string_view head, const std::string& name) {
@@ -72,26 +56,13 @@ PointCloud read_laz(const fs::path& path, std::string_view head, const std::stri
                      " (scripts/setup.sh installs both), or decompress it first with 'laszip' or 'pdal translate'");
   const TempFolder temp;
   const fs::path las = temp.path / "decompressed.las", log = temp.path / "errors";
-  const std::vector<std::string> args{"node", tool.string(), fs::absolute(path).string(), las.string()};
-  std::vector<char*> argv;
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  ::posix_spawn_file_actions_init(&actions);
-  ::posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  ::posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-  pid_t pid = 0;
-  const int rc = ::posix_spawnp(&pid, "node", &actions, nullptr, argv.data(), environ);
-  ::posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0)
-    throw InputError(name + ": reading LAZ needs Node.js ('node' could not be started: " + std::strerror(rc) +
+  const ProgramResult run = run_program({"node", tool.string(), fs::absolute(path).string(), las.string()}, log);
+  if (!run.started)
+    throw InputError(name + ": reading LAZ needs Node.js ('node' could not be started: " + run.error +
                      "; apt-get install nodejs), or decompress it first with 'laszip' or 'pdal translate'");
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) throw Error(name + ": waiting for the LAZ decoder failed: " + std::strerror(errno));
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    std::string why = last_line(log);
-    if (why.empty()) why = WIFSIGNALED(status) ? "the decoder ended by signal " + std::to_string(WTERMSIG(status)) : "the decoder failed";
+  if (!run.ok()) {
+    std::string why = last_line_of(log);
+    if (why.empty()) why = run.signal > 0 ? "the decoder ended by signal " + std::to_string(run.signal) : "the decoder failed";
     throw InputError(name + ": " + why);
   }
   const InputFile decoded(las);
