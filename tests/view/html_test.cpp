@@ -60,6 +60,16 @@ struct Decoded {
     std::memcpy(out.data(), bytes.data() + e["offset"].get<std::size_t>(), out.size() * sizeof(T));
     return out;
   }
+  /// Positions, quantized by the page to 16-bit steps across the scene's box, as the page reads them.
+  std::vector<double> positions(const std::string& name) const {
+    const auto q = array<std::uint16_t>(name);
+    std::vector<double> out;
+    if (q.empty()) return out;
+    const auto& e = manifest["arrays"][name];
+    EXPECT_EQ(e["type"], "uint16");
+    for (std::size_t i = 0; i < q.size(); ++i) out.push_back(e["min"][i % 3].get<double>() + q[i] * e["step"][i % 3].get<double>());
+    return out;
+  }
 };
 
 Decoded decode(const std::string& page) {
@@ -132,18 +142,22 @@ TEST(Html, PageCarriesTheViewerAndDecodesToTheScene) {
   EXPECT_DOUBLE_EQ(centre.x(), 1002.0);
   EXPECT_DOUBLE_EQ(centre.y(), 2004.0);
   EXPECT_DOUBLE_EQ(centre.z(), 10.5);
-  const auto points = decoded.array<float>("points");
+  // To within half a step of 1/65535 of the box (4 x 8 x 1).
+  const auto points = decoded.positions("points");
   ASSERT_EQ(points.size(), 15u);
   for (int i = 0; i < 5; ++i) {
-    EXPECT_FLOAT_EQ(points[3 * i], static_cast<float>(i - 2.0));
-    EXPECT_FLOAT_EQ(points[3 * i + 1], static_cast<float>(2.0 * i - 4.0));
-    EXPECT_FLOAT_EQ(points[3 * i + 2], 0.0f);
+    EXPECT_NEAR(points[3 * i], i - 2.0, 4.0 / 65535);
+    EXPECT_NEAR(points[3 * i + 1], 2.0 * i - 4.0, 8.0 / 65535);
+    EXPECT_NEAR(points[3 * i + 2], 0.0, 1.0 / 65535);
   }
   EXPECT_EQ(decoded.array<std::uint8_t>("classes"), (std::vector<std::uint8_t>{0, 1, 0, 2, 0}));
-  EXPECT_EQ(decoded.array<float>("segments"), (std::vector<float>{-2, -4, -0.5f, -2, -4, 0.5f}));
+  const std::vector<double> ends{-2, -4, -0.5, -2, -4, 0.5};
+  const auto segments = decoded.positions("segments");
+  ASSERT_EQ(segments.size(), ends.size());
+  for (std::size_t i = 0; i < ends.size(); ++i) EXPECT_NEAR(segments[i], ends[i], 1e-4);
   EXPECT_EQ(decoded.array<float>("segment_radii"), (std::vector<float>{0.2f}));
   EXPECT_EQ(decoded.array<std::uint8_t>("segment_orders"), (std::vector<std::uint8_t>{0}));
-  EXPECT_EQ(decoded.array<float>("vertices").size(), 12u);
+  EXPECT_EQ(decoded.positions("vertices").size(), 12u);
   EXPECT_EQ(decoded.array<std::uint32_t>("triangles").size(), 12u);
   EXPECT_EQ(decoded.array<std::uint32_t>("triangles")[1], 2u);
 }
@@ -157,10 +171,10 @@ TEST(Html, LargeCloudsAreThinnedEvenly) {
   options.max_points = 2;
   const Decoded decoded = decode(html_page(scene, options));
   EXPECT_EQ(decoded.manifest["shown_points"], 2);
-  const auto points = decoded.array<float>("points");
+  const auto points = decoded.positions("points");
   ASSERT_EQ(points.size(), 6u);
-  EXPECT_FLOAT_EQ(points[0], -2.0f);  // point 0
-  EXPECT_FLOAT_EQ(points[3], 0.0f);   // point 2
+  EXPECT_NEAR(points[0], -2.0, 1e-4);  // point 0 (x 0, around the whole cloud's centre 2)
+  EXPECT_NEAR(points[3], 0.0, 1e-4);   // point 2
 }
 
 TEST(Html, TitleIsEscaped) {

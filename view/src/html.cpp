@@ -39,6 +39,21 @@ class Payload {
     const auto* p = reinterpret_cast<const unsigned char*>(values.data());
     bytes_.insert(bytes_.end(), p, p + values.size() * sizeof(T));
   }
+  /// Points (x, y, z after one another) as 16-bit integers across `box`: a 30 m plot to half a
+  /// millimetre, at half the bytes of floats and deflating far better.
+  void add_quantized(const std::string& name, const std::vector<float>& xyz, const Eigen::AlignedBox3d& box) {
+    std::vector<std::uint16_t> q(xyz.size());
+    const Eigen::Vector3d size = box.sizes().cwiseMax(1e-12);
+    for (std::size_t i = 0; i < xyz.size(); ++i) {
+      const int k = static_cast<int>(i % 3);
+      const double t = (static_cast<double>(xyz[i]) - box.min()[k]) / size[k];
+      q[i] = static_cast<std::uint16_t>(std::lround(std::clamp(t, 0.0, 1.0) * 65535.0));
+    }
+    add(name, q);
+    manifest_[name]["type"] = "uint16";
+    manifest_[name]["min"] = {box.min().x(), box.min().y(), box.min().z()};
+    manifest_[name]["step"] = {size.x() / 65535.0, size.y() / 65535.0, size.z() / 65535.0};
+  }
   const std::vector<unsigned char>& bytes() const { return bytes_; }
   const nlohmann::ordered_json& manifest() const { return manifest_; }
 
@@ -221,7 +236,13 @@ std::string html_page(const Scene& scene, const HtmlOptions& options) {
   if (detail::kViewerScript.empty()) throw Error("this build of treeskel has no viewer script");
   const Eigen::Vector3d centre = scene_centre(scene);
   Payload payload;
+  // The box of everything, around the centre, that positions are quantized across.
+  Eigen::AlignedBox3d box;
+  auto extend = [&](const std::vector<float>& xyz) {
+    for (std::size_t i = 0; i + 2 < xyz.size(); i += 3) box.extend(Eigen::Vector3d(xyz[i], xyz[i + 1], xyz[i + 2]));
+  };
   std::size_t shown = 0;
+  std::vector<float> cloud_points, segment_ends, mesh_vertices;
   if (scene.cloud && !scene.cloud->empty()) {
     const std::size_t n = scene.cloud->size();
     const std::size_t keep = std::min(n, std::max<std::size_t>(options.max_points, 1));
@@ -235,7 +256,8 @@ std::string html_page(const Scene& scene, const HtmlOptions& options) {
       classes.push_back(static_cast<std::uint8_t>(i < scene.classes.size() ? scene.classes[i] : PointClass::tree));
     }
     shown = keep;
-    payload.add("points", points);
+    extend(points);
+    cloud_points = std::move(points);
     payload.add("classes", classes);
   }
   if (!scene.skeleton.empty()) {
@@ -247,7 +269,8 @@ std::string html_page(const Scene& scene, const HtmlOptions& options) {
       radii.push_back(static_cast<float>(s.radius));
       orders.push_back(static_cast<std::uint8_t>(std::clamp(s.order, 0, 255)));
     }
-    payload.add("segments", ends);
+    extend(ends);
+    segment_ends = std::move(ends);
     payload.add("segment_radii", radii);
     payload.add("segment_orders", orders);
   }
@@ -263,8 +286,14 @@ std::string html_page(const Scene& scene, const HtmlOptions& options) {
     triangles.reserve(3 * m.n_faces());
     for (auto f : m.faces())
       for (auto v : m.fv_range(f)) triangles.push_back(static_cast<std::uint32_t>(v.idx()));
-    payload.add("vertices", vertices);
+    extend(vertices);
+    mesh_vertices = std::move(vertices);
     payload.add("triangles", triangles);
+  }
+  if (!box.isEmpty()) {
+    if (!cloud_points.empty()) payload.add_quantized("points", cloud_points, box);
+    if (!segment_ends.empty()) payload.add_quantized("segments", segment_ends, box);
+    if (!mesh_vertices.empty()) payload.add_quantized("vertices", mesh_vertices, box);
   }
   nlohmann::ordered_json manifest;
   manifest["title"] = scene.title;

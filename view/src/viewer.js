@@ -114,12 +114,20 @@ async function main() {
   const buffer = bytes.buffer;
   timing.decoded = performance.now();
   const view = (type, entry) => (entry ? new type(buffer, entry.offset, entry.count) : new type(0));
-  const points = view(Float32Array, manifest.arrays.points);
+  // Positions are 16-bit steps across the scene's box.
+  const positions = (entry) => {
+    if (!entry) return new Float32Array(0);
+    const q = view(Uint16Array, entry);
+    const out = new Float32Array(q.length);
+    for (let i = 0; i < q.length; ++i) out[i] = entry.min[i % 3] + q[i] * entry.step[i % 3];
+    return out;
+  };
+  const points = positions(manifest.arrays.points);
   const classes = view(Uint8Array, manifest.arrays.classes);
-  const segments = view(Float32Array, manifest.arrays.segments);
+  const segments = positions(manifest.arrays.segments);
   const segmentOrders = view(Uint8Array, manifest.arrays.segment_orders);
   const segmentRadii = view(Float32Array, manifest.arrays.segment_radii);
-  const vertices = view(Float32Array, manifest.arrays.vertices);
+  const vertices = positions(manifest.arrays.vertices);
   const triangles = view(Uint32Array, manifest.arrays.triangles);
 
   const preview = location.hash === '#preview';
@@ -259,6 +267,11 @@ async function main() {
   if (m.dbh !== undefined && m.dbh !== null) parts.push('DBH ' + formatNumber(m.dbh));
   if (m.volume !== undefined) parts.push('wood volume ' + formatNumber(m.volume));
   const r = manifest.report || {};
+  if (m.height === undefined) {
+    if (r.points !== undefined) parts.push(r.points.toLocaleString('en') + ' points');
+    if (r.nodes !== undefined) parts.push(r.nodes.toLocaleString('en') + ' skeleton nodes');
+    if (r.branch_points !== undefined) parts.push(r.branch_points + ' branch points');
+  }
   if (r.mesh && r.mesh.triangles !== undefined) parts.push(r.mesh.triangles.toLocaleString('en') + ' triangles');
   if (r.mesh && r.mesh.skeleton_coverage !== undefined) parts.push((100 * r.mesh.skeleton_coverage).toFixed(0) + '% of the skeleton inside');
   if (Array.isArray(r.warnings) && r.warnings.length > 0) parts.push(r.warnings.length + (r.warnings.length === 1 ? ' warning' : ' warnings'));
