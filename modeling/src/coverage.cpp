@@ -9,8 +9,12 @@
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace treeskel::modeling {
 
@@ -52,15 +56,21 @@ SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mes
     const K::Point_3 q = point(p);
     return inside(q) != CGAL::ON_UNBOUNDED_SIDE || tree.squared_distance(q) <= tolerance2;
   };
-  for (auto [it, end] = boost::edges(g); it != end; ++it) {
-    const Eigen::Vector3d a = g[boost::source(*it, g)].position, b = g[boost::target(*it, g)].position;
+  // Each edge on its own (the tree is only read), summed in edge order: the same share for any
+  // number of threads.
+  std::vector<std::pair<NodeId, NodeId>> edges;
+  for (auto [it, end] = boost::edges(g); it != end; ++it) edges.emplace_back(boost::source(*it, g), boost::target(*it, g));
+  std::vector<double> covered_length(edges.size(), 0.0);
+  tbb::parallel_for(std::size_t{0}, edges.size(), [&](std::size_t e) {
+    const Eigen::Vector3d a = g[edges[e].first].position, b = g[edges[e].second].position;
     const double length = (b - a).norm();
     // Samples at the centres of equal pieces: each stands for one piece's length.
     const int pieces = std::max(2, static_cast<int>(std::ceil(length / step)));
     int hits = 0;
     for (int i = 0; i < pieces; ++i) hits += covered(a + (b - a) * ((i + 0.5) / pieces)) ? 1 : 0;
-    out.inside_length += length * hits / pieces;
-  }
+    covered_length[e] = length * hits / pieces;
+  });
+  for (double x : covered_length) out.inside_length += x;
   return out;
 }
 

@@ -263,7 +263,7 @@ std::size_t weld_short_edges(TreeMesh& mesh, double weld, const std::vector<Eige
 }
 
 UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, double weld, const Eigen::Vector3d& offset,
-                  const std::vector<Eigen::AlignedBox3d>& where) {
+                  const std::vector<Eigen::AlignedBox3d>& where, bool pieces_tested) {
   // Box intersection (inside corefinement) shuffles with CGAL's default random generator: seeded
   // here, the same input gives the same mesh.
   CGAL::get_default_random() = CGAL::Random(0);
@@ -289,7 +289,7 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
     // Corefinement needs closed inputs free of self-intersections (CGAL may crash otherwise). The
     // tests run on the pieces' own doubles (exact predicates decide them as the exact kernel would).
     append(surfaces[i], pieces[i]);
-    if (!CGAL::is_closed(pieces[i]) || PMP::does_self_intersect(pieces[i])) keep_apart(surfaces[i], 1);
+    if (!CGAL::is_closed(pieces[i]) || (!pieces_tested && PMP::does_self_intersect(pieces[i]))) keep_apart(surfaces[i], 1);
     else usable.push_back(i);
   }
   // A corefinement with the whole costs as much as the whole is large: the pieces that cross or hold

@@ -48,8 +48,10 @@ std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_
 /// component of its own (counted in `failed`), never left out.
 /// The result's points are rounded to 32-bit floats in the frame `offset` leads to (local + offset),
 /// and its edges shorter than `weld` collapsed (see `weld_short_edges`; within `where` if given).
+/// `pieces_tested`: the caller has tested every piece for self-intersections already (the sweep
+/// does), so they are not tested again (closedness still is).
 UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, double weld,
                   const Eigen::Vector3d& offset = Eigen::Vector3d::Zero(),
-                  const std::vector<Eigen::AlignedBox3d>& where = {});
+                  const std::vector<Eigen::AlignedBox3d>& where = {}, bool pieces_tested = false);
 
 }  // namespace treeskel::modeling::detail

@@ -219,7 +219,8 @@ class Uniter {
       boxes.push_back(b);
       meshes.push_back(p.mesh);
     }
-    UnionResult united = detail::unite(base, meshes, o_.weld * extent_, frame_, boxes);
+    // With the repair on, every piece's sweep was tested for self-intersections (see `sweep`).
+    UnionResult united = detail::unite(base, meshes, o_.weld * extent_, frame_, boxes, o_.repair);
     TreeMesh mesh = std::move(united.mesh);
     std::size_t welded = united.welded;
     st_.unions += united.batches;
