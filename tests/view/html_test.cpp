@@ -196,6 +196,8 @@ TEST(Html, SegmentsFollowTheLongestPathAtForks) {
     EXPECT_DOUBLE_EQ(seg.radius, 0.1);
     EXPECT_GE(seg.a.z(), 30.0);  // in the input's frame
   }
+  boost::add_edge(4, 5, s.graph);  // a cycle: not a skeleton
+  EXPECT_THROW(skeleton_segments(s), InputError);
 }
 
 TEST(Html, PointsNoNodeStandsForAreLeftOut) {

@@ -3,6 +3,7 @@
 #include "treeskel/error.h"
 #include "treeskel/io/atomic_file.h"
 #include "treeskel/io/run_program.h"
+#include "treeskel/modeling/chains.h"
 
 #include <zlib.h>
 
@@ -174,53 +175,31 @@ std::string escape_html(const std::string& text) {
 
 std::vector<Segment> skeleton_segments(const Skeleton& skeleton) {
   std::vector<Segment> out;
-  const std::size_t n = skeleton.node_count();
-  if (n == 0) return out;
+  if (skeleton.node_count() < 2) return out;
+  const modeling::ChainTree t = modeling::build_chains(skeleton);
   const auto& g = skeleton.graph;
-  // Parents and a visiting order from the root (a forest's other parts from their own first node).
-  std::vector<std::ptrdiff_t> parent(n, -2);
-  std::vector<NodeId> order;
-  order.reserve(n);
-  for (NodeId first = 0; first <= n; ++first) {
-    const NodeId s = first == 0 ? skeleton.root : first - 1;
-    if (s >= n || parent[s] != -2) continue;
-    parent[s] = -1;
-    std::vector<NodeId> stack{s};
-    while (!stack.empty()) {
-      const NodeId v = stack.back();
-      stack.pop_back();
-      order.push_back(v);
-      for (auto [it, end] = boost::adjacent_vertices(v, g); it != end; ++it)
-        if (parent[*it] == -2) {
-          parent[*it] = static_cast<std::ptrdiff_t>(v);
-          stack.push_back(*it);
-        }
+  auto step = [&](NodeId v) { return (g[v].position - g[t.parent[v]].position).norm(); };
+  // The longest path from each node down to a tip: chains children first, each from its tip end.
+  std::vector<double> reach(skeleton.node_count(), 0.0);
+  for (auto c = t.chains.rbegin(); c != t.chains.rend(); ++c)
+    for (std::size_t k = c->nodes.size() - 1; k > 0; --k) {
+      const NodeId v = c->nodes[k];
+      reach[t.parent[v]] = std::max(reach[t.parent[v]], reach[v] + step(v));
+    }
+  // A chain keeps its fork's order if it leads the longest way on from there, else one more.
+  std::vector<int> order(skeleton.node_count(), 0);
+  for (const auto& c : t.chains) {
+    const NodeId fork = c.nodes.front(), first = c.nodes[1];
+    NodeId longest = first;
+    for (NodeId sibling : t.children[fork])
+      if (reach[sibling] + step(sibling) > reach[longest] + step(longest)) longest = sibling;
+    const int o = order[fork] + (longest == first ? 0 : 1);
+    for (std::size_t k = 1; k < c.nodes.size(); ++k) {
+      const NodeId v = c.nodes[k], p = c.nodes[k - 1];
+      order[v] = o;
+      out.push_back({g[p].position + skeleton.offset, g[v].position + skeleton.offset, o, 0.5 * (g[p].radius + g[v].radius)});
     }
   }
-  // The longest path from each node down to a tip.
-  std::vector<double> reach(n, 0.0);
-  for (auto it = order.rbegin(); it != order.rend(); ++it)
-    if (parent[*it] >= 0) {
-      const auto p = static_cast<NodeId>(parent[*it]);
-      reach[p] = std::max(reach[p], reach[*it] + (g[*it].position - g[p].position).norm());
-    }
-  std::vector<int> branch_order(n, 0);
-  for (NodeId v : order) {
-    NodeId longest = n;
-    for (auto [it, end] = boost::adjacent_vertices(v, g); it != end; ++it)
-      if (parent[*it] == static_cast<std::ptrdiff_t>(v) &&
-          (longest == n || reach[*it] + (g[*it].position - g[v].position).norm() >
-                               reach[longest] + (g[longest].position - g[v].position).norm()))
-        longest = *it;
-    for (auto [it, end] = boost::adjacent_vertices(v, g); it != end; ++it)
-      if (parent[*it] == static_cast<std::ptrdiff_t>(v)) branch_order[*it] = branch_order[v] + (*it == longest ? 0 : 1);
-  }
-  for (NodeId v : order)
-    if (parent[v] >= 0) {
-      const auto p = static_cast<NodeId>(parent[v]);
-      out.push_back({g[p].position + skeleton.offset, g[v].position + skeleton.offset, branch_order[v],
-                     0.5 * (g[p].radius + g[v].radius)});
-    }
   return out;
 }
 

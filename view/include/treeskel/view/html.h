@@ -53,7 +53,7 @@ struct HtmlOptions {
 
 /// The skeleton's edges as segments in the input's frame, with branch orders: at each fork the
 /// child with the longest path to a tip continues its parent's order, the others start one higher.
-/// Radii are the nodes' (the mean of the edge's two ends).
+/// Radii are the nodes' (the mean of the edge's two ends). @throws InputError when it is not a tree.
 std::vector<Segment> skeleton_segments(const Skeleton& skeleton);
 
 /// The point classes of `cloud` as `skeleton` left them: a point no node stands for is left out.
