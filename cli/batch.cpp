@@ -5,6 +5,7 @@
 #include "model_options.h"
 #include "report.h"
 #include "skeleton_options.h"
+#include "view_options.h"
 
 #include "treeskel/error.h"
 #include "treeskel/io/atomic_file.h"
@@ -390,8 +391,7 @@ int run(Settings& s) {
   if (s.model.empty())
     for (const CLI::Option* o : s.model_only)
       if (o->count() > 0) throw OptionError(o->get_name() + " shapes the model: add --model FORMAT, or leave it out");
-  if (s.preview && view::find_chromium().empty())
-    throw OptionError("--preview needs Chromium: apt-get install chromium (or set TREESKEL_CHROMIUM to a Chrome or Chromium)");
+  if (s.preview) require_chromium_for_preview();
   const Shard shard = s.shard.empty() ? Shard{} : parse_shard(s.shard);
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   const unsigned jobs = s.jobs > 0 ? s.jobs : cores;

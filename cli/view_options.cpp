@@ -7,6 +7,11 @@ namespace treeskel::cli {
 
 namespace fs = std::filesystem;
 
+void require_chromium_for_preview() {
+  if (view::find_chromium().empty())
+    throw OptionError("--preview needs Chromium: apt-get install chromium (or set TREESKEL_CHROMIUM to a Chrome or Chromium)");
+}
+
 void add_view_options(CLI::App* c, ViewSettings& s) {
   c->add_option("--html", s.html,
                 "Also write a page that shows the cloud, the skeleton and the mesh with the report: one .html file that "
@@ -25,8 +30,7 @@ ViewOutputs::ViewOutputs(const ViewSettings& settings, io::OutputSet& outputs) :
   }
   if (!settings_.preview.empty()) {
     if (io::extension_of(settings_.preview) != "png") throw OptionError("--preview must name a .png file");
-    if (view::find_chromium().empty())
-      throw OptionError("--preview needs Chromium: apt-get install chromium (or set TREESKEL_CHROMIUM to a Chrome or Chromium)");
+    require_chromium_for_preview();
     preview_to_ = outputs.stage(settings_.preview, "--preview");
   }
 }

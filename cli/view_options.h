@@ -18,6 +18,9 @@ struct ViewSettings {
   std::size_t html_points = view::HtmlOptions{}.max_points;
 };
 
+/// @throws OptionError (a usage error, before any work) when no Chromium can render --preview.
+void require_chromium_for_preview();
+
 /// Adds --html, --preview and --html-points to `command`.
 void add_view_options(CLI::App* command, ViewSettings& s);
 
