@@ -19,7 +19,8 @@ void add_view_options(CLI::App* c, ViewSettings& s) {
   c->add_option("--preview", s.preview,
                 "Also render a .png of the same scene from the side and from above (needs Chromium; no display)");
   c->add_option("--html-points", s.html_points, "At most this many of the cloud's points in the page and the preview")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
 }
 
 ViewOutputs::ViewOutputs(const ViewSettings& settings, io::OutputSet& outputs) : settings_(settings), outputs_(outputs) {
