@@ -23,6 +23,8 @@ constexpr double kVolumeWarning = 0.7;
 constexpr double kUpAxisRatio = 1.5;
 constexpr double kTallestTree = 150.0;
 constexpr double kWidestTrunk = 3.0;
+/// At least this share of the cloud in parts beyond the bridging distance, left out: several trees?
+constexpr double kFarPartsWarning = 0.1;
 
 
 /// What looks wrong about the input, from the skeleton's extent and the measurements: an up axis
@@ -62,6 +64,20 @@ std::vector<std::string> sanity_warnings(const Skeleton& skeleton, const Eigen::
   }
   if (!m.dbh && m.height > 0.0 && m.height < breast_height)
     out.push_back("the tree is shorter than breast height, so it has no DBH");
+  // Parts of the cloud too far from the tree to be bridged: another tree beside it (a plot, a
+  // street), or a tree that occlusion cut in pieces. Only the largest part is modelled.
+  std::size_t in_tree = 0;
+  for (NodeId v = 0; v < skeleton.node_count(); ++v) in_tree += skeleton[v].points.size();
+  const std::size_t all = in_tree + skeleton.left_out.total();
+  const std::size_t far = skeleton.left_out.far_parts;
+  if (all > 0 && static_cast<double>(far) >= kFarPartsWarning * static_cast<double>(all)) {
+    std::ostringstream w;
+    w << far << " of the cloud's " << all << " points (" << std::lround(100.0 * static_cast<double>(far) / static_cast<double>(all))
+      << "%) lie in parts too far from the tree to be joined to it and are left out of the model: the cloud may hold "
+      << "several trees (a plot, a street) or a tree that occlusion cut in pieces; split it into trees first, or join "
+      << "the parts with a longer --bridge";
+    out.push_back(w.str());
+  }
   return out;
 }
 

@@ -34,7 +34,8 @@ struct ModelOutcome {
 
 /// What the user of a model should be told, one sentence each (without the input's name): limbs
 /// apart or left out, a mesh that crosses itself once in floats, less than 95% of the skeleton or
-/// 70% of the wood volume in the mesh, an up axis or units that look wrong, a DBH no tree has.
+/// 70% of the wood volume in the mesh, an up axis or units that look wrong, a DBH no tree has, a
+/// tenth of the cloud or more left out in parts too far to join (several trees?).
 /// Every front end (the command's stderr and report, MeshLab's log) says the same.
 std::vector<std::string> model_warnings(const ModelOutcome& outcome);
 

@@ -220,6 +220,30 @@ TEST(Cli, ModelWarnsAboutAnUpAxisOrUnitsThatLookWrong) {
   EXPECT_FALSE(nlohmann::json::parse(in)["warnings"].empty());
 }
 
+// Two trees side by side, 20 m apart: one is modelled, and the other is not left out silently.
+TEST(Cli, ModelWarnsWhenACloudHoldsSeveralTrees) {
+  test::TempDir dir;
+  const PointCloud tree = io::read_point_cloud(test::data_file("tree_rtwig.txt"));
+  {
+    std::ofstream two(dir.path("two.xyz"));
+    for (const double shift : {0.0, 20.0})
+      for (const auto& p : tree.positions) {
+        const Eigen::Vector3d w = p + tree.offset;
+        two << w.x() + shift << ' ' << w.y() << ' ' << w.z() << '\n';
+      }
+  }
+  const Result two = run("model two.xyz -o two.glb --report two.json", dir.root());
+  ASSERT_EQ(two.code, 0) << two.out;
+  EXPECT_NE(two.out.find("several trees"), std::string::npos) << two.out;
+  std::ifstream in(dir.path("two.json"));
+  const auto warnings = nlohmann::json::parse(in)["warnings"];
+  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(),
+                          [](const nlohmann::json& w) { return w.get<std::string>().find("several trees") != std::string::npos; }));
+  const Result one = run("model " + quoted(test::data_file("tree_rtwig.txt")) + " -o one.glb", dir.root());
+  ASSERT_EQ(one.code, 0) << one.out;
+  EXPECT_EQ(one.out.find("several trees"), std::string::npos) << one.out;
+}
+
 TEST(Cli, ModelFormatsAndBadUse) {
   test::TempDir dir;
   const std::string cloud = quoted(test::data_file("tree_adtree1.xyz"));
