@@ -271,16 +271,20 @@ std::string index_number(const nlohmann::ordered_json& v, int digits = 3) {
   return out.str();
 }
 
-/// The index of a batch's pages (index.html, or index-I-of-N.html for a shard): one row per tree with
-/// its preview, its numbers and a link to its page. Links are relative: the folder can be moved.
-void write_index(const Settings& s, const nlohmann::ordered_json& doc, const fs::path& summary_html) {
-  const fs::path index = summary_html.parent_path() /
-                         (summary_html.stem().string() == "summary" ? std::string("index.html")
-                                                                    : "index" + summary_html.stem().string().substr(7) + ".html");
+/// The files a batch's summary is written to: summary.csv, summary.json and, with --html, index.html
+/// (for a shard, summary-I-of-N.* and index-I-of-N.html).
+struct SummaryFiles {
+  fs::path csv, json, index;
+};
+
+/// The index of a batch's pages: one row per tree with its preview, its numbers and a link to its
+/// page, and a link to the summary's CSV. Links are relative: the folder can be moved.
+void write_index(const Settings& s, const nlohmann::ordered_json& doc, const SummaryFiles& files) {
+  const std::string csv_name = view::escape_html(files.csv.filename().string());
   auto relative = [&](const std::string& name, const std::string& suffix) {
     return view::escape_html(fs::path(name + suffix).generic_string());
   };
-  io::write_atomically(index, [&](std::ostream& out) {
+  io::write_atomically(files.index, [&](std::ostream& out) {
     out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>treeskel batch: "
         << view::escape_html(s.out_dir) << "</title>\n<style>\n"
         << "body { font: 14px/1.4 system-ui, sans-serif; margin: 20px; color: #222; }\n"
@@ -289,8 +293,7 @@ void write_index(const Settings& s, const nlohmann::ordered_json& doc, const fs:
         << "</style>\n</head>\n<body>\n<h1>treeskel batch</h1>\n<p>" << doc["converted"].get<std::size_t>() << " of "
         << doc["inputs"].get<std::size_t>() << " trees converted, " << doc["failed"].get<std::size_t>() << " failed, "
         << doc["not_run"].get<std::size_t>() << " not run. Distances in the inputs' units. "
-        << "<a href=\"" << view::escape_html(summary_html.stem().string()) << ".csv\">" << view::escape_html(summary_html.stem().string())
-        << ".csv</a></p>\n<table>\n<tr>" << (s.preview ? "<th>preview</th>" : "")
+        << "<a href=\"" << csv_name << "\">" << csv_name << "</a></p>\n<table>\n<tr>" << (s.preview ? "<th>preview</th>" : "")
         << "<th>tree</th><th>status</th><th>points</th><th>height</th><th>DBH</th><th>volume</th><th>skeleton inside</th><th>warnings</th></tr>\n";
     for (const auto& t : doc["trees"]) {
       const std::string name = t["name"].get<std::string>();
@@ -315,10 +318,10 @@ void write_index(const Settings& s, const nlohmann::ordered_json& doc, const fs:
   });
 }
 
-void write_summary(const Settings& s, const std::vector<Row>& rows, const fs::path& csv, const fs::path& json) {
+void write_summary(const Settings& s, const std::vector<Row>& rows, const SummaryFiles& files) {
   nlohmann::ordered_json all = nlohmann::ordered_json::array();
   for (const auto& r : rows) all.push_back(row_json(r));
-  io::write_atomically(csv, [&](std::ostream& out) {
+  io::write_atomically(files.csv, [&](std::ostream& out) {
     for (std::size_t c = 0; c < kColumns.size(); ++c) out << (c ? "," : "") << kColumns[c];
     out << '\n';
     for (const auto& j : all) {
@@ -340,8 +343,8 @@ void write_summary(const Settings& s, const std::vector<Row>& rows, const fs::pa
   doc["failed"] = failed;
   doc["not_run"] = rows.size() - ok - failed;
   doc["trees"] = std::move(all);
-  io::write_atomically(json, [&](std::ostream& out) { out << doc.dump(2) << '\n'; });
-  if (s.html) write_index(s, doc, fs::path(json).replace_extension(".html"));
+  io::write_atomically(files.json, [&](std::ostream& out) { out << doc.dump(2) << '\n'; });
+  if (s.html) write_index(s, doc, files);
 }
 
 std::string format_duration(double seconds) {
@@ -411,10 +414,11 @@ int run(Settings& s) {
   }
   if (all.empty()) throw OptionError("no input: name cloud files, folders holding them, or patterns");
   const std::vector<BatchInput> mine = take_shard(all, shard);
-  const std::string summary_stem =
-      s.shard.empty() ? "summary" : "summary-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count);
-  const fs::path summary_csv = fs::path(s.out_dir) / (summary_stem + ".csv");
-  const fs::path summary_json = fs::path(s.out_dir) / (summary_stem + ".json");
+  const std::string shard_suffix =
+      s.shard.empty() ? "" : "-" + std::to_string(shard.index) + "-of-" + std::to_string(shard.count);
+  const fs::path out_dir(s.out_dir);
+  const SummaryFiles summary{out_dir / ("summary" + shard_suffix + ".csv"), out_dir / ("summary" + shard_suffix + ".json"),
+                             out_dir / ("index" + shard_suffix + ".html")};
 
   std::vector<Row> rows;
   for (const auto& in : mine) {
@@ -519,12 +523,12 @@ int run(Settings& s) {
       else if (r.status == "failed") std::cerr << row_line(r, done, total) << std::endl;
     }
     if (since_summary.seconds() > kSummaryInterval) {
-      write_summary(s, rows, summary_csv, summary_json);
+      write_summary(s, rows, summary);
       since_summary = Stopwatch();
     }
   }
   progress.clear();
-  write_summary(s, rows, summary_csv, summary_json);
+  write_summary(s, rows, summary);
   std::size_t resumed = 0, not_run = 0;
   for (const auto& r : rows) {
     resumed += r.resumed;
@@ -537,8 +541,8 @@ int run(Settings& s) {
     if (resumed) line << " (" << resumed << " before this run)";
     line << ", " << failed << " failed";
     if (not_run) line << ", " << not_run << " not run (stopped)";
-    line << ", " << format_duration(clock.seconds()) << "; summary in " << summary_csv.string() << " and "
-         << summary_json.filename().string();
+    line << ", " << format_duration(clock.seconds()) << "; summary in " << summary.csv.string() << " and "
+         << summary.json.filename().string();
     (failed > 0 || stopping ? std::cerr : std::cout) << line.str() << '\n';
   }
   if (stopping) return 128 + static_cast<int>(g_stop_signal);
