@@ -1,5 +1,6 @@
 // treeskel batch INPUT... -o OUTDIR: many trees, each converted by a treeskel process of its own (so a
 // tree that fails, crashes or runs out of memory fails alone), N at a time, one summary row per tree.
+#include "batch.h"
 #include "batch_plan.h"
 #include "commands.h"
 #include "model_options.h"
@@ -37,43 +38,13 @@ extern char** environ;
 
 namespace treeskel::cli {
 
-namespace {
-
 namespace fs = std::filesystem;
+
+namespace {
 
 /// How often, at most, the summary files are rewritten while the batch runs (so that a batch killed
 /// outright leaves a summary of nearly all it did).
 constexpr double kSummaryInterval = 5.0;
-
-struct Settings {
-  std::vector<std::string> inputs;
-  std::string out_dir;
-  std::string model;     // mesh format ("" for none)
-  std::string skeleton;  // skeleton format ("" for none)
-  bool html = false;     // a page per tree, and index.html
-  bool preview = false;  // a PNG per tree (shown in index.html)
-  std::size_t html_points = 0;  // passed on as given
-  unsigned jobs = 0;
-  bool resume = false;
-  std::string shard;
-  bool quiet = false;
-  SkeletonSettings method;  // checked here, passed on as given
-  ModelSettings model_settings;  // the same
-  std::vector<const CLI::Option*> passed;   // the options passed on to every tree's command
-  std::vector<const CLI::Option*> model_only;  // ... of those, the ones only `model` has
-};
-
-/// One tree of the batch and what became of it.
-struct Row {
-  BatchInput input;
-  std::string status = "not run";  // ok, failed, not run (the batch was stopped first)
-  bool resumed = false;            // its outputs were complete from an earlier run
-  double seconds = 0.0;
-  std::vector<fs::path> outputs;
-  fs::path report;                 // the tree's JSON report
-  nlohmann::json facts;            // that report, once read
-  std::string error;
-};
 
 volatile std::sig_atomic_t g_stop_signal = 0;
 
@@ -94,14 +65,14 @@ void append_given(const std::vector<const CLI::Option*>& options, std::vector<st
   }
 }
 
-fs::path output_path(const Settings& s, const BatchInput& in, const std::string& suffix) {
+fs::path output_path(const BatchSettings& s, const BatchInput& in, const std::string& suffix) {
   fs::path p = fs::path(s.out_dir) / in.name;
   p += suffix;
   return p;
 }
 
 /// The tree's outputs, its report last.
-std::vector<fs::path> outputs_of(const Settings& s, const BatchInput& in) {
+std::vector<fs::path> outputs_of(const BatchSettings& s, const BatchInput& in) {
   std::vector<fs::path> out;
   if (!s.model.empty()) out.push_back(output_path(s, in, "." + s.model));
   if (!s.skeleton.empty()) out.push_back(output_path(s, in, "_skeleton." + s.skeleton));
@@ -111,7 +82,7 @@ std::vector<fs::path> outputs_of(const Settings& s, const BatchInput& in) {
   return out;
 }
 
-std::vector<std::string> command_for(const Settings& s, const Row& row, unsigned threads) {
+std::vector<std::string> command_for(const BatchSettings& s, const BatchRow& row, unsigned threads) {
   std::vector<std::string> args{"treeskel", "--threads", std::to_string(threads)};
   if (!s.model.empty()) {
     args.insert(args.end(), {"model", row.input.path.string(), "-o", row.outputs[0].string()});
@@ -158,7 +129,7 @@ std::string error_from_log(const fs::path& log) {
 }
 
 /// Reads the tree's report into the row; false (with the error) when it cannot be read.
-bool read_report(Row& row) {
+bool read_report(BatchRow& row) {
   try {
     row.facts = nlohmann::json::parse(io::read_whole_file(row.report));
     return row.facts.is_object();
@@ -169,7 +140,7 @@ bool read_report(Row& row) {
 }
 
 /// A complete earlier conversion: every output there and the report readable.
-bool complete(Row& row) {
+bool complete(BatchRow& row) {
   std::error_code ec;
   for (const auto& p : row.outputs)
     if (!fs::is_regular_file(p, ec)) return false;
@@ -179,7 +150,7 @@ bool complete(Row& row) {
   return false;
 }
 
-void finish(Row& row, int status, const fs::path& log, bool stopping) {
+void finish(BatchRow& row, int status, const fs::path& log, bool stopping) {
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
     std::error_code ec;
     for (const auto& p : row.outputs)
@@ -216,7 +187,7 @@ const std::vector<std::string> kColumns{"input",  "name",      "status", "resume
                                         "branches_by_order", "triangles", "components", "skeleton_coverage",
                                         "warnings", "outputs",  "error"};
 
-nlohmann::ordered_json row_json(const Row& r) {
+nlohmann::ordered_json row_json(const BatchRow& r) {
   const nlohmann::json& f = r.facts;
   auto fact = [&](const nlohmann::json::json_pointer& at) -> nlohmann::ordered_json {
     return f.is_object() && f.contains(at) ? nlohmann::ordered_json(f.at(at)) : nlohmann::ordered_json(nullptr);
@@ -279,7 +250,7 @@ struct SummaryFiles {
 
 /// The index of a batch's pages: one row per tree with its preview, its numbers and a link to its
 /// page, and a link to the summary's CSV. Links are relative: the folder can be moved.
-void write_index(const Settings& s, const nlohmann::ordered_json& doc, const SummaryFiles& files) {
+void write_index(const BatchSettings& s, const nlohmann::ordered_json& doc, const SummaryFiles& files) {
   const std::string csv_name = view::escape_html(files.csv.filename().string());
   auto relative = [&](const std::string& name, const std::string& suffix) {
     return view::escape_html(fs::path(name + suffix).generic_string());
@@ -318,7 +289,7 @@ void write_index(const Settings& s, const nlohmann::ordered_json& doc, const Sum
   });
 }
 
-void write_summary(const Settings& s, const std::vector<Row>& rows, const SummaryFiles& files) {
+void write_summary(const BatchSettings& s, const std::vector<BatchRow>& rows, const SummaryFiles& files) {
   nlohmann::ordered_json all = nlohmann::ordered_json::array();
   for (const auto& r : rows) all.push_back(row_json(r));
   io::write_atomically(files.csv, [&](std::ostream& out) {
@@ -347,17 +318,8 @@ void write_summary(const Settings& s, const std::vector<Row>& rows, const Summar
   if (s.html) write_index(s, doc, files);
 }
 
-std::string format_duration(double seconds) {
-  const long t = std::lround(seconds);
-  std::ostringstream out;
-  if (t >= 3600) out << t / 3600 << "h" << (t % 3600) / 60 << "m";
-  else if (t >= 60) out << t / 60 << "m" << t % 60 << "s";
-  else out << t << "s";
-  return out.str();
-}
-
 /// One line for a finished tree.
-std::string row_line(const Row& r, std::size_t done, std::size_t total) {
+std::string row_line(const BatchRow& r, std::size_t done, std::size_t total) {
   std::ostringstream out;
   out << "[" << done << "/" << total << "] ";
   if (r.status != "ok") {
@@ -383,7 +345,9 @@ std::string row_line(const Row& r, std::size_t done, std::size_t total) {
   return out.str();
 }
 
-int run(Settings& s) {
+}  // namespace
+
+int run_batch(BatchSettings& s, std::vector<BatchRow>* finished) {
   Stopwatch clock;
   // What to write: a mesh unless only a skeleton is asked for.
   if (s.model.empty() && s.skeleton.empty()) s.model = "glb";
@@ -420,9 +384,9 @@ int run(Settings& s) {
   const SummaryFiles summary{out_dir / ("summary" + shard_suffix + ".csv"), out_dir / ("summary" + shard_suffix + ".json"),
                              out_dir / ("index" + shard_suffix + ".html")};
 
-  std::vector<Row> rows;
+  std::vector<BatchRow> rows;
   for (const auto& in : mine) {
-    Row r;
+    BatchRow r;
     r.input = in;
     r.outputs = outputs_of(s, in);
     r.report = r.outputs.back();
@@ -491,7 +455,7 @@ int run(Settings& s) {
   while (true) {
     while (!stopping && running.size() < jobs && next < order.size()) {
       const std::size_t i = order[next++];
-      Row& r = rows[i];
+      BatchRow& r = rows[i];
       for (const auto& p : r.outputs) fs::create_directories(p.parent_path());
       Running job{i, Stopwatch(), logs / (std::to_string(i) + ".log")};
       running.emplace(spawn(command_for(s, r, threads), job.log), job);
@@ -510,7 +474,7 @@ int run(Settings& s) {
     }
     const auto it = running.find(pid);
     if (it == running.end()) continue;
-    Row& r = rows[it->second.row];
+    BatchRow& r = rows[it->second.row];
     r.seconds = it->second.clock.seconds();
     finish(r, status, it->second.log, stopping);
     running.erase(it);
@@ -545,14 +509,13 @@ int run(Settings& s) {
          << summary.json.filename().string();
     (failed > 0 || stopping ? std::cerr : std::cout) << line.str() << '\n';
   }
+  if (finished) *finished = rows;
   if (stopping) return 128 + static_cast<int>(g_stop_signal);
   return failed > 0 ? 1 : 0;
 }
 
-}  // namespace
-
 Command add_batch(CLI::App& app) {
-  auto s = std::make_shared<Settings>();
+  auto s = std::make_shared<BatchSettings>();
   CLI::App* c = app.add_subcommand(
       "batch",
       "Convert many trees: every cloud named, found in a folder (recursively) or matching a pattern, each by a "
@@ -583,18 +546,22 @@ Command add_batch(CLI::App& app) {
                 "I/N: convert only every N-th input from the I-th (from 0), for array jobs; e.g. with Slurm "
                 "--array=0-9: --shard $SLURM_ARRAY_TASK_ID/10. The summary is then summary-I-of-N.csv/.json");
   c->add_flag("-q,--quiet", s->quiet, "Print only failures and the final count when some failed");
-  const auto before = c->get_options();
-  add_model_options(*c, s->model_settings);
-  const auto with_model = c->get_options();
-  add_skeleton_options(*c, s->method);
-  c->add_option("--html-points", s->html_points, "With --html or --preview: at most this many of a cloud's points in its page")
+  add_tree_options(*c, *s);
+  return [s] { return run_batch(*s); };
+}
+
+void add_tree_options(CLI::App& c, BatchSettings& s) {
+  const auto before = c.get_options();
+  add_model_options(c, s.model_settings);
+  const auto with_model = c.get_options();
+  add_skeleton_options(c, s.method);
+  c.add_option("--html-points", s.html_points, "With --html or --preview: at most this many of a cloud's points in its page")
       ->check(CLI::PositiveNumber);
-  for (const CLI::Option* o : c->get_options()) {
+  for (const CLI::Option* o : c.get_options()) {
     if (std::find(before.begin(), before.end(), o) != before.end()) continue;
-    s->passed.push_back(o);
-    if (std::find(with_model.begin(), with_model.end(), o) != with_model.end()) s->model_only.push_back(o);
+    s.passed.push_back(o);
+    if (std::find(with_model.begin(), with_model.end(), o) != with_model.end()) s.model_only.push_back(o);
   }
-  return [s] { return run(*s); };
 }
 
 }  // namespace treeskel::cli

@@ -15,6 +15,7 @@ Command add_model(CLI::App& app);
 Command add_synth(CLI::App& app);
 Command add_eval(CLI::App& app);
 Command add_batch(CLI::App& app);
+Command add_plot(CLI::App& app);
 
 
 }  // namespace treeskel::cli

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   const treeskel::cli::Command synth = treeskel::cli::add_synth(app);
   const treeskel::cli::Command evaluate = treeskel::cli::add_eval(app);
   const treeskel::cli::Command batch = treeskel::cli::add_batch(app);
+  const treeskel::cli::Command plot = treeskel::cli::add_plot(app);
 
   try {
     app.parse(argc, argv);
@@ -45,6 +46,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("synth")) return synth();
     if (app.got_subcommand("eval")) return evaluate();
     if (app.got_subcommand("batch")) return batch();
+    if (app.got_subcommand("plot")) return plot();
   } catch (const treeskel::OptionError& e) {
     std::cerr << "treeskel: error: " << e.what() << '\n';
     return 2;

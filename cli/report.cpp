@@ -91,4 +91,13 @@ CLI::Validator not_negative() {
   return number_check([](double v) { return v >= 0.0 && std::isfinite(v); }, "a number not below 0");
 }
 
+std::string format_duration(double seconds) {
+  const long t = std::lround(seconds);
+  std::ostringstream out;
+  if (t >= 3600) out << t / 3600 << "h" << (t % 3600) / 60 << "m";
+  else if (t >= 60) out << t / 60 << "m" << t % 60 << "s";
+  else out << t << "s";
+  return out.str();
+}
+
 }  // namespace treeskel::cli

@@ -39,6 +39,9 @@ private:
 void write_report_and_commit(io::OutputSet& outputs, const std::filesystem::path& report_to,
                              const nlohmann::ordered_json& report);
 
+/// Formats a duration for a person: "42s", "3m20s", "1h05m".
+std::string format_duration(double seconds);
+
 /// Formats a number of seconds as "0.42 s".
 std::string format_seconds(double seconds);
 

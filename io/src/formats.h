@@ -2,6 +2,7 @@
 // (offset zero); the facade moves them to the local frame.
 #pragma once
 
+#include "treeskel/io/point_cloud_io.h"
 #include "treeskel/point_cloud.h"
 #include "treeskel/skeleton.h"
 
@@ -25,7 +26,7 @@ Skeleton read_skeleton_json(std::string_view data, const std::string& name);
 Skeleton read_skeleton_ply(std::string_view data, const std::string& name);
 
 void write_xyz(std::ostream& out, const PointCloud& cloud);
-void write_ply(std::ostream& out, const PointCloud& cloud, bool binary);
+void write_ply(std::ostream& out, const PointCloud& cloud, bool binary, const std::vector<PointField>& fields = {});
 void write_las(std::ostream& out, const PointCloud& cloud);
 
 /// Appends the shortest decimal text that reads back to exactly `value`.

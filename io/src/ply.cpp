@@ -74,13 +74,17 @@ PointCloud read_ply(std::string_view data, const std::string& name) {
   return cloud;
 }
 
-void write_ply(std::ostream& out, const PointCloud& cloud, bool binary) {
+void write_ply(std::ostream& out, const PointCloud& cloud, bool binary, const std::vector<PointField>& fields) {
   std::string header = "ply\nformat ";
   header += binary ? "binary_little_endian 1.0\n" : "ascii 1.0\n";
   header += "comment written by treeskel\nelement vertex " + std::to_string(cloud.size()) + "\n";
   header += "property double x\nproperty double y\nproperty double z\n";
   if (cloud.has_normals()) header += "property float nx\nproperty float ny\nproperty float nz\n";
   if (cloud.has_colors()) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  for (const auto& f : fields)
+    header += std::string("property ") +
+              (f.type == PointField::Type::uint8 ? "uchar " : f.type == PointField::Type::uint32 ? "uint " : "float ") +
+              f.name + "\n";
   header += "end_header\n";
   out << header;
   std::string buffer;
@@ -97,8 +101,28 @@ void write_ply(std::ostream& out, const PointCloud& cloud, bool binary) {
       if (cloud.has_normals())
         for (int a = 0; a < 3; ++a) put(&cloud.normals[i][a], 4);
       if (cloud.has_colors()) buffer.append(reinterpret_cast<const char*>(cloud.colors[i].data()), 3);
+      for (const auto& f : fields) {
+        if (f.type == PointField::Type::uint8) {
+          const auto v = static_cast<std::uint8_t>(f.values[i]);
+          put(&v, 1);
+        } else if (f.type == PointField::Type::uint32) {
+          const auto v = static_cast<std::uint32_t>(f.values[i]);
+          put(&v, 4);
+        } else {
+          const auto v = static_cast<float>(f.values[i]);
+          put(&v, 4);
+        }
+      }
     } else {
       append_point_line(buffer, cloud, i);
+      if (!fields.empty()) {
+        buffer.pop_back();  // the line's end
+        for (const auto& f : fields) {
+          buffer += ' ';
+          append_number(buffer, f.type == PointField::Type::float32 ? static_cast<double>(static_cast<float>(f.values[i])) : f.values[i]);
+        }
+        buffer += '\n';
+      }
     }
     if (buffer.size() > (1u << 20)) {
       out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 
 namespace treeskel {
 namespace {
@@ -86,6 +87,58 @@ TEST_P(RoundTrip, WritesAndReadsBack) {
 INSTANTIATE_TEST_SUITE_P(Formats, RoundTrip,
                          ::testing::Combine(::testing::Values("xyz", "txt", "asc", "csv", "pts", "ply", "las"),
                                             ::testing::Bool()));
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(WritePly, FieldsPerPointAfterThePositionInBothEncodings) {
+  const TempDir dir;
+  const PointCloud c = random_cloud(true, true, true);
+  io::CloudWriteOptions options;
+  options.fields = {{"tree_id", io::PointField::Type::uint32, {}},
+                    {"class", io::PointField::Type::uint8, {}},
+                    {"height", io::PointField::Type::float32, {}}};
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    options.fields[0].values.push_back(static_cast<double>(i * 1000003 % 4000000000u));
+    options.fields[1].values.push_back(static_cast<double>(i % 3));
+    options.fields[2].values.push_back(0.25 * static_cast<double>(i));
+  }
+  for (bool binary : {true, false}) {
+    options.ply_binary = binary;
+    const std::string path = dir.path(binary ? "b.ply" : "a.ply");
+    io::write_point_cloud(path, c, options);
+    // The reader passes over the extra properties: the cloud reads back whole.
+    expect_same_world(c, io::read_point_cloud(path), 1e-9);
+    const std::string text = read_text(path);
+    const std::string header = text.substr(0, text.find("end_header"));
+    EXPECT_NE(header.find("property uchar blue\nproperty uint tree_id\nproperty uchar class\nproperty float height\n"), std::string::npos)
+        << header;
+    if (binary) {
+      // The last point's fields are the file's last 9 bytes.
+      const std::string tail = text.substr(text.size() - 9);
+      std::uint32_t id;
+      float height;
+      std::memcpy(&id, tail.data(), 4);
+      std::memcpy(&height, tail.data() + 5, 4);
+      EXPECT_EQ(id, static_cast<std::uint32_t>(options.fields[0].values.back()));
+      EXPECT_EQ(static_cast<int>(static_cast<unsigned char>(tail[4])), static_cast<int>(options.fields[1].values.back()));
+      EXPECT_EQ(height, static_cast<float>(options.fields[2].values.back()));
+    } else {
+      const std::string last = text.substr(text.rfind('\n', text.size() - 2) + 1);
+      std::istringstream in(last);
+      std::vector<double> numbers;
+      for (double v; in >> v;) numbers.push_back(v);
+      ASSERT_GE(numbers.size(), 3u);
+      EXPECT_EQ(numbers[numbers.size() - 3], options.fields[0].values.back());
+      EXPECT_EQ(numbers[numbers.size() - 2], options.fields[1].values.back());
+      EXPECT_EQ(numbers[numbers.size() - 1], options.fields[2].values.back());
+    }
+  }
+  EXPECT_THROW(io::write_point_cloud(dir.path("c.xyz"), c, options), Error);
+  EXPECT_FALSE(fs::exists(dir.path("c.xyz")));
+}
 
 TEST(ReadText, AcceptsCommentsCrlfCommasHeadersAndExtraColumns) {
   const TempDir dir;

@@ -21,8 +21,18 @@ namespace treeskel::io {
 /// Reads a cloud. @throws InputError with the file name and, where it applies, the line or byte.
 PointCloud read_point_cloud(const std::filesystem::path& path);
 
+/// A value per point beside the position (a label, a height), written as a PLY property.
+struct PointField {
+  enum class Type { uint8, uint32, float32 };
+  std::string name;
+  Type type = Type::float32;
+  std::vector<double> values;  ///< one per point, exact in `type`
+};
+
 struct CloudWriteOptions {
   bool ply_binary = true;  ///< binary little-endian PLY (else ascii)
+  /// Properties after the position, normals and colours; PLY only (another format refuses them).
+  std::vector<PointField> fields;
 };
 
 /// Writes a cloud in the format of the extension (.xyz .txt .asc .csv .pts .ply .las; not .laz), atomically.

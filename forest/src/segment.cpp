@@ -1,0 +1,303 @@
+#include "treeskel/forest/segment.h"
+
+#include "treeskel/error.h"
+#include "treeskel/geodesic.h"
+#include "treeskel/neighbour_graph.h"
+
+#include <CGAL/Kd_tree.h>
+#include <CGAL/Orthogonal_k_neighbor_search.h>
+#include <CGAL/Search_traits_3.h>
+#include <CGAL/Search_traits_adapter.h>
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/property_map.h>
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+
+namespace treeskel::forest {
+
+namespace {
+
+using Kernel = CGAL::Simple_cartesian<double>;
+using Point = Kernel::Point_3;
+using PointMap = CGAL::Pointer_property_map<Point>::type;
+using Traits = CGAL::Search_traits_adapter<std::uint32_t, PointMap, CGAL::Search_traits_3<Kernel>>;
+using Nearest = CGAL::Orthogonal_k_neighbor_search<Traits>;
+using KdTree = Nearest::Tree;
+
+constexpr int kBits = 21;  // per axis of a voxel key
+constexpr std::uint64_t kMask = (std::uint64_t{1} << kBits) - 1;
+
+/// The voxels of the points off the ground: sorted keys, each voxel's points, each point's voxel.
+struct Voxels {
+  std::vector<std::uint64_t> keys;           // sorted, one per voxel
+  std::vector<std::uint32_t> first;          // voxel v holds members[first[v] .. first[v + 1])
+  std::vector<std::uint32_t> members;        // point indices, by voxel
+  std::vector<std::uint32_t> of_point;       // per point; npos for ground points
+  static constexpr std::uint32_t npos = std::numeric_limits<std::uint32_t>::max();
+
+  std::size_t size() const { return keys.size(); }
+  std::int64_t find(std::uint64_t key) const {
+    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+    return it != keys.end() && *it == key ? it - keys.begin() : -1;
+  }
+};
+
+Eigen::Vector3i unpack(std::uint64_t key) {
+  return {static_cast<int>(key & kMask), static_cast<int>((key >> kBits) & kMask), static_cast<int>(key >> (2 * kBits))};
+}
+
+std::uint64_t pack(const Eigen::Vector3i& g) {
+  return static_cast<std::uint64_t>(g.x()) | (static_cast<std::uint64_t>(g.y()) << kBits) |
+         (static_cast<std::uint64_t>(g.z()) << (2 * kBits));
+}
+
+Voxels make_voxels(const PointCloud& cloud, const Ground& ground, double voxel, const Eigen::Vector3d& low) {
+  Voxels v;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
+  keyed.reserve(cloud.size() - ground.ground_points);
+  for (std::size_t p = 0; p < cloud.size(); ++p) {
+    if (ground.is_ground[p]) continue;
+    const Eigen::Vector3d g = ((cloud.positions[p] - low) / voxel).array().floor();
+    keyed.emplace_back(pack(g.cast<int>()), static_cast<std::uint32_t>(p));
+  }
+  tbb::parallel_sort(keyed.begin(), keyed.end());
+  v.of_point.assign(cloud.size(), Voxels::npos);
+  v.members.reserve(keyed.size());
+  for (std::size_t i = 0; i < keyed.size(); ++i) {
+    if (i == 0 || keyed[i].first != keyed[i - 1].first) {
+      v.keys.push_back(keyed[i].first);
+      v.first.push_back(static_cast<std::uint32_t>(i));
+    }
+    v.members.push_back(keyed[i].second);
+    v.of_point[keyed[i].second] = static_cast<std::uint32_t>(v.keys.size() - 1);
+  }
+  v.first.push_back(static_cast<std::uint32_t>(keyed.size()));
+  return v;
+}
+
+/// Each voxel joined to the occupied ones of its 26 neighbours, at the distance between their centres.
+CellGraph voxel_graph(const Voxels& v, double voxel) {
+  const std::size_t n = v.size();
+  std::vector<std::array<std::int64_t, 26>> near(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t c) {
+    const Eigen::Vector3i g = unpack(v.keys[c]);
+    int k = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          const Eigen::Vector3i h = g + Eigen::Vector3i(dx, dy, dz);
+          near[c][k++] = (h.array() < 0).any() || (h.array() > static_cast<int>(kMask)).any() ? -1 : v.find(pack(h));
+        }
+  });
+  CellGraph graph;
+  graph.offsets.assign(n + 1, 0);
+  for (std::size_t c = 0; c < n; ++c)
+    graph.offsets[c + 1] = graph.offsets[c] + static_cast<std::uint32_t>(std::count_if(near[c].begin(), near[c].end(), [](std::int64_t t) { return t >= 0; }));
+  graph.targets.resize(graph.offsets[n]);
+  graph.weights.resize(graph.offsets[n]);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t c) {
+    std::uint32_t at = graph.offsets[c];
+    const Eigen::Vector3i g = unpack(v.keys[c]);
+    for (std::int64_t t : near[c]) {
+      if (t < 0) continue;
+      graph.targets[at] = static_cast<std::uint32_t>(t);
+      graph.weights[at] = voxel * (unpack(v.keys[t]) - g).cast<double>().norm();
+      ++at;
+    }
+  });
+  return graph;
+}
+
+}  // namespace
+
+Segmentation segment_trees(const PointCloud& cloud, const Ground& ground, const std::vector<Stem>& stems,
+                           const StemOptions& stem_options, const SegmentOptions& o) {
+  if (!(o.voxel > 0) || !(o.seed_margin >= 0) || !(o.max_gap >= 0))
+    throw OptionError("segmentation: the voxel must be positive, the margin and the gap not negative");
+  TREESKEL_REQUIRE(ground.height.size() == cloud.size() && ground.is_ground.size() == cloud.size(), "ground of another cloud");
+  Segmentation s;
+  s.tree.assign(cloud.size(), 0);
+  if (cloud.size() == ground.ground_points) return s;
+  const Eigen::Vector3d low = bounding_box(cloud).min();
+  if (((bounding_box(cloud).sizes() / o.voxel).array() >= static_cast<double>(kMask)).any())
+    throw InputError("the plot is too large for voxels of " + std::to_string(o.voxel) + " (is it in metres?)");
+  const Voxels v = make_voxels(cloud, ground, o.voxel, low);
+  s.voxels = v.size();
+  const CellGraph graph = voxel_graph(v, o.voxel);
+
+  // Seeds: the voxels of each stem's trunk, up to the slice's top; a voxel two stems claim goes to the
+  // nearer centre.
+  std::vector<std::uint32_t> label(v.size(), 0);
+  std::vector<double> seed_distance(v.size(), std::numeric_limits<double>::infinity());
+  for (std::size_t vi = 0; vi < v.size(); ++vi)
+    for (std::uint32_t m = v.first[vi]; m < v.first[vi + 1]; ++m) {
+      const std::uint32_t p = v.members[m];
+      if (ground.height[p] > stem_options.slice_top) continue;
+      for (std::size_t t = 0; t < stems.size(); ++t) {
+        const double d = (cloud.positions[p].head<2>() - stems[t].centre).norm();
+        if (d <= stems[t].radius + o.seed_margin && d < seed_distance[vi]) {
+          seed_distance[vi] = d;
+          label[vi] = static_cast<std::uint32_t>(t + 1);
+        }
+      }
+    }
+  std::vector<std::uint32_t> sources;
+  for (std::size_t vi = 0; vi < v.size(); ++vi)
+    if (label[vi]) sources.push_back(static_cast<std::uint32_t>(vi));
+
+  if (!sources.empty()) {
+    const GeodesicField field = geodesic_distance(graph, sources);
+    std::vector<std::uint32_t> order;
+    for (std::size_t vi = 0; vi < v.size(); ++vi)
+      if (std::isfinite(field.distance[vi]) && !label[vi]) order.push_back(static_cast<std::uint32_t>(vi));
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return field.distance[a] != field.distance[b] ? field.distance[a] < field.distance[b] : a < b;
+    });
+    for (std::uint32_t vi : order) label[vi] = label[static_cast<std::size_t>(field.predecessor[vi])];
+  }
+
+  // Parts no path joins to a stem: to the nearest tree when close and tall enough.
+  std::uint32_t parts = 0;
+  const std::vector<std::uint32_t> part = connected_components(graph, &parts);
+  std::vector<double> part_top(parts, -std::numeric_limits<double>::infinity());
+  std::vector<char> part_reached(parts, 0);
+  for (std::size_t vi = 0; vi < v.size(); ++vi) {
+    part_reached[part[vi]] |= label[vi] != 0;
+    for (std::uint32_t m = v.first[vi]; m < v.first[vi + 1]; ++m)
+      part_top[part[vi]] = std::max(part_top[part[vi]], static_cast<double>(ground.height[v.members[m]]));
+  }
+  // Rounds: the parts within reach of the trees as they stand join them, then the parts within reach
+  // of those, until none joins (a sparse crown's parts hang off each other, not all off the trunk).
+  std::vector<char> pending(parts, 0);
+  for (std::uint32_t c = 0; c < parts; ++c) pending[c] = !part_reached[c] && part_top[c] >= o.understorey;
+  auto centre_of = [&](std::size_t vi) {
+    const Eigen::Vector3d c = (unpack(v.keys[vi]).cast<double>().array() + 0.5) * o.voxel;
+    return Point(c.x(), c.y(), c.z());
+  };
+  while (std::find(pending.begin(), pending.end(), 1) != pending.end()) {
+    std::vector<Point> centres;
+    std::vector<std::uint32_t> labelled;
+    for (std::size_t vi = 0; vi < v.size(); ++vi)
+      if (label[vi]) {
+        centres.push_back(centre_of(vi));
+        labelled.push_back(static_cast<std::uint32_t>(vi));
+      }
+    if (labelled.empty()) break;
+    std::vector<std::uint32_t> ids(centres.size());
+    std::iota(ids.begin(), ids.end(), 0u);
+    const PointMap map(centres.data());
+    KdTree tree(ids.begin(), ids.end(), KdTree::Splitter(), Traits(map));
+    tree.build();
+    std::vector<std::pair<double, std::uint32_t>> nearest(v.size(), {std::numeric_limits<double>::infinity(), 0});
+    tbb::parallel_for(std::size_t{0}, v.size(), [&](std::size_t vi) {
+      if (label[vi] || !pending[part[vi]]) return;
+      Nearest search(tree, centre_of(vi), 1, 0, true, Nearest::Distance(map));
+      const auto it = search.begin();
+      if (it != search.end()) nearest[vi] = {std::sqrt(it->second), label[labelled[it->first]]};
+    });
+    std::vector<double> best(parts, std::numeric_limits<double>::infinity());
+    std::vector<std::uint32_t> best_label(parts, 0);
+    for (std::size_t vi = 0; vi < v.size(); ++vi)
+      if (nearest[vi].first < best[part[vi]] ||
+          (nearest[vi].first == best[part[vi]] && nearest[vi].second < best_label[part[vi]])) {
+        best[part[vi]] = nearest[vi].first;
+        best_label[part[vi]] = nearest[vi].second;
+      }
+    bool joined = false;
+    for (std::uint32_t c = 0; c < parts; ++c)
+      if (pending[c] && best[c] <= o.max_gap) {
+        pending[c] = 0;
+        joined = true;
+      }
+    if (!joined) break;
+    for (std::size_t vi = 0; vi < v.size(); ++vi)
+      if (!label[vi] && !pending[part[vi]] && best[part[vi]] <= o.max_gap) label[vi] = best_label[part[vi]];
+  }
+  for (std::size_t vi = 0; vi < v.size(); ++vi) s.unreached_voxels += !label[vi];
+  for (std::size_t p = 0; p < cloud.size(); ++p) {
+    if (v.of_point[p] == Voxels::npos) continue;
+    s.tree[p] = label[v.of_point[p]];
+    s.unassigned_points += s.tree[p] == 0;
+  }
+  // The ground's points inside a stem's circle are its base: the tree then reaches the ground, and
+  // its height and breast height are measured from there.
+  if (!stems.empty()) {
+    double reach = 0;
+    for (const auto& st : stems) reach = std::max(reach, st.radius + o.seed_margin);
+    const double cell = std::max(reach, 0.5);
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> near;
+    auto key = [&](double x, double y) {
+      return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(x / cell)))) << 32) |
+             static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(y / cell)));
+    };
+    for (std::size_t t = 0; t < stems.size(); ++t)
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          near[key(stems[t].centre.x() + dx * cell, stems[t].centre.y() + dy * cell)].push_back(static_cast<std::uint32_t>(t));
+    for (std::size_t p = 0; p < cloud.size(); ++p) {
+      if (!ground.is_ground[p]) continue;
+      const auto it = near.find(key(cloud.positions[p].x(), cloud.positions[p].y()));
+      if (it == near.end()) continue;
+      double best = std::numeric_limits<double>::infinity();
+      for (std::uint32_t t : it->second) {
+        const double d = (cloud.positions[p].head<2>() - stems[t].centre).norm();
+        if (d <= stems[t].radius + o.seed_margin && d < best) {
+          best = d;
+          s.tree[p] = t + 1;
+        }
+      }
+      s.stem_base_points += s.tree[p] != 0;
+    }
+  }
+  return s;
+}
+
+std::vector<TreeShape> describe_trees(const PointCloud& cloud, const std::vector<Stem>& stems,
+                                      const Segmentation& seg, const StemOptions& stem_options) {
+  constexpr double kLayer = 0.25;
+  constexpr double kSpreadShare = 0.1;
+  std::vector<TreeShape> shapes(stems.size());
+  std::vector<std::vector<std::pair<int, bool>>> layers(stems.size());  // (layer, spread) per point
+  for (std::size_t p = 0; p < cloud.size(); ++p) {
+    const std::uint32_t t = seg.tree[p];
+    if (t == 0) continue;
+    TreeShape& s = shapes[t - 1];
+    const Stem& stem = stems[t - 1];
+    const Eigen::Vector3d& q = cloud.positions[p];
+    if (s.points == 0) s.low = s.high = q;
+    s.low = s.low.cwiseMin(q);
+    s.high = s.high.cwiseMax(q);
+    ++s.points;
+    const double h = q.z() - stem.ground;
+    s.height = std::max(s.height, h);
+    if (h < stem_options.slice_bottom) continue;
+    const bool spread = (q.head<2>() - stem.centre).norm() > std::max(1.0, 4.0 * stem.radius);
+    layers[t - 1].emplace_back(static_cast<int>((h - stem_options.slice_bottom) / kLayer), spread);
+  }
+  for (std::size_t t = 0; t < stems.size(); ++t) {
+    TreeShape& s = shapes[t];
+    s.crown_base = s.height;
+    std::vector<std::pair<int, bool>>& l = layers[t];
+    std::sort(l.begin(), l.end());
+    for (std::size_t i = 0; i < l.size();) {
+      std::size_t j = i, spread = 0;
+      while (j < l.size() && l[j].first == l[i].first) spread += l[j++].second;
+      if (static_cast<double>(spread) >= kSpreadShare * static_cast<double>(j - i) && j - i >= 10) {
+        s.crown_base = stem_options.slice_bottom + l[i].first * kLayer;
+        break;
+      }
+      i = j;
+    }
+  }
+  return shapes;
+}
+
+}  // namespace treeskel::forest

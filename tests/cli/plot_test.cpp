@@ -1,0 +1,124 @@
+// End-to-end runs of `treeskel plot`: two of the bundled trees side by side in UTM coordinates give two
+// models; a synthetic plot is segmented; a cloud with no stem and a bad option fail clearly.
+#include "run_tool.h"
+#include "support/synthetic.h"
+#include "treeskel/eval/plots.h"
+#include "treeskel/io/mesh_io.h"
+#include "treeskel/io/point_cloud_io.h"
+#include "treeskel/modeling/tree_mesh.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace treeskel {
+namespace {
+
+namespace fs = std::filesystem;
+
+using test::quoted;
+using test::Result;
+using test::run;
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(Plot, TwoTreesSideBySideGiveTwoModelsInTheInputsFrame) {
+  const test::TempDir dir;
+  PointCloud tree = io::read_point_cloud(test::data_file("tree_adtree1.xyz"));
+  PointCloud two;
+  const Eigen::Vector3d utm(500000.0, 5000000.0, 100.0);
+  for (double shift : {0.0, 10.0})
+    for (const auto& p : tree.positions) two.positions.push_back(p + tree.offset + utm + Eigen::Vector3d(shift, 0, 0));
+  recentre_offset(two);
+  io::write_point_cloud(dir.path("two.ply"), two);
+
+  // --local (a model option, passed on to each tree): meshes in the tree's own frame, which assimp
+  // (single precision) re-reads exactly.
+  const Result r = run("plot " + quoted(dir.path("two.ply")) + " -o " + quoted(dir.path("out")) + " --local");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("2 trees, 2 modelled"), std::string::npos) << r.out;
+  const auto doc = read_json(dir.path("out/trees.json"));
+  ASSERT_EQ(doc["trees"].size(), 2u) << doc;
+  EXPECT_EQ(doc["points"], 2 * tree.size());
+  std::size_t in_trees = 0;
+  for (int t = 0; t < 2; ++t) {
+    const auto& row = doc["trees"][t];
+    EXPECT_EQ(row["status"], "ok") << row;
+    EXPECT_EQ(row["id"], t + 1);
+    // The bundled tree's trunk stands near (-0.77, 18.26) in its file; the stems are written in the
+    // input's frame.
+    EXPECT_NEAR(row["x"].get<double>(), utm.x() - 0.77 + 10.0 * t, 0.05) << row;
+    EXPECT_NEAR(row["y"].get<double>(), utm.y() + 18.26, 0.05) << row;
+    EXPECT_GT(row["points"].get<std::size_t>(), tree.size() * 95 / 100);
+    in_trees += row["points"].get<std::size_t>();
+    EXPECT_NEAR(row["height"].get<double>(), 5.5, 0.3);
+    EXPECT_NEAR(row["dbh"].get<double>(), 0.18, 0.03);
+    EXPECT_GT(row["skeleton_coverage"].get<double>(), 0.95);
+    // The model, re-read: closed.
+    const modeling::TreeMesh mesh = io::read_mesh(dir.path("out/" + row["model"].get<std::string>()));
+    EXPECT_EQ(modeling::check_mesh(mesh, false).boundary_edges, 0u);
+  }
+  EXPECT_EQ(in_trees, doc["tree_points"].get<std::size_t>());
+  // The labelled cloud: every point, with its tree.
+  const PointCloud labelled = io::read_point_cloud(dir.path("out/labelled.ply"));
+  EXPECT_EQ(labelled.size(), two.size());
+  EXPECT_NE(read_text(dir.path("out/labelled.ply")).find("property uint tree_id\nproperty uchar class\nproperty float height"),
+            std::string::npos);
+  EXPECT_EQ(read_text(dir.path("out/plan.png")).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_EQ(std::count(std::istreambuf_iterator<char>(*std::make_unique<std::ifstream>(dir.path("out/trees.csv"))), {}, '\n'), 3);
+}
+
+TEST(Plot, ASyntheticPlotSegmentedOnly) {
+  const test::TempDir dir;
+  eval::PlotOptions o;
+  o.trees = 3;
+  o.width = 9.0;
+  o.shrubs = 3;
+  o.points_per_tree = 8000;
+  const eval::SyntheticPlot plot = eval::make_plot(o);
+  io::write_point_cloud(dir.path("plot.ply"), plot.cloud);
+  const Result r = run("plot " + quoted(dir.path("plot.ply")) + " -o " + quoted(dir.path("out")) + " --segment-only");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto doc = read_json(dir.path("out/trees.json"));
+  ASSERT_EQ(doc["trees"].size(), 3u) << r.out;
+  for (const auto& row : doc["trees"]) {
+    EXPECT_EQ(row["status"], "segmented");
+    EXPECT_TRUE(row["model"].is_null());
+    EXPECT_TRUE(fs::exists(dir.path("out/trees/" + row["name"].get<std::string>() + ".ply")));
+  }
+  EXPECT_FALSE(fs::exists(dir.path("out/trees/tree_001.glb")));
+  EXPECT_GT(doc["ground_points"].get<std::size_t>(), 0u);
+}
+
+TEST(Plot, NoStemAndBadOptionsFailClearly) {
+  const test::TempDir dir;
+  PointCloud blob;
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> u(0.0, 3.0);
+  for (int i = 0; i < 3000; ++i) blob.positions.emplace_back(u(rng), u(rng), u(rng));
+  io::write_point_cloud(dir.path("blob.xyz"), blob);
+  const Result none = run("plot " + quoted(dir.path("blob.xyz")) + " -o " + quoted(dir.path("out")));
+  EXPECT_EQ(none.code, 1) << none.out;
+  EXPECT_NE(none.out.find("no stem found"), std::string::npos) << none.out;
+  EXPECT_TRUE(fs::exists(dir.path("out/plan.png")));  // to see why
+  const Result bad = run("plot " + quoted(dir.path("blob.xyz")) + " -o " + quoted(dir.path("out")) + " --stem-slice 2,1");
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("--stem-slice 2,1"), std::string::npos) << bad.out;
+  const Result missing = run("plot " + quoted(dir.path("nothing.xyz")) + " -o " + quoted(dir.path("out2")));
+  EXPECT_EQ(missing.code, 1) << missing.out;
+  EXPECT_NE(missing.out.find("nothing.xyz"), std::string::npos) << missing.out;
+}
+
+}  // namespace
+}  // namespace treeskel

@@ -1,0 +1,99 @@
+// Ground: the progressive morphological filter on planes, slopes, a block standing on the ground, a
+// tree with no ground scanned, and a LAS classification.
+#include "treeskel/error.h"
+#include "treeskel/forest/ground.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace treeskel::forest {
+namespace {
+
+/// A grid of points every `step` on z = f(x, y) over [0, w] x [0, w].
+template <class F>
+void add_surface(PointCloud& cloud, double w, double step, F f) {
+  for (double x = 0; x <= w + 1e-9; x += step)
+    for (double y = 0; y <= w + 1e-9; y += step) cloud.positions.emplace_back(x, y, f(x, y));
+}
+
+TEST(Terrain, ElevationIsBilinearBetweenCellCentresAndFlatPastTheEdge) {
+  Terrain t;
+  t.cell = 1.0;
+  t.nx = 2;
+  t.ny = 2;
+  t.z = {0.0, 1.0, 2.0, 3.0};  // (0,0) (1,0) / (0,1) (1,1)
+  EXPECT_DOUBLE_EQ(t.elevation(0.5, 0.5), 0.0);
+  EXPECT_DOUBLE_EQ(t.elevation(1.5, 0.5), 1.0);
+  EXPECT_DOUBLE_EQ(t.elevation(1.0, 1.0), 1.5);
+  EXPECT_DOUBLE_EQ(t.elevation(1.5, 1.5), 3.0);
+  EXPECT_DOUBLE_EQ(t.elevation(-4.0, 0.5), 0.0);
+  EXPECT_DOUBLE_EQ(t.elevation(9.0, 9.0), 3.0);
+}
+
+TEST(Ground, ASlopeIsAllGroundAndABlockOnItIsNot) {
+  PointCloud cloud;
+  auto ground_z = [](double x, double y) { return 0.3 * x + 0.1 * y; };
+  add_surface(cloud, 20.0, 0.2, ground_z);
+  const std::size_t ground_count = cloud.size();
+  // A 3 m wide block, 2 m tall, standing at (10, 10): its top and sides.
+  for (double x = 8.5; x <= 11.5; x += 0.1)
+    for (double y = 8.5; y <= 11.5; y += 0.1) cloud.positions.emplace_back(x, y, ground_z(x, y) + 2.0);
+  const Ground g = classify_ground(cloud);
+  std::size_t missed = 0;
+  for (std::size_t p = 0; p < ground_count; ++p) missed += !g.is_ground[p];
+  // The ground under the block is hidden by it in plan (its lowest points are the block's): a
+  // cell's points below the block's top are still the ground's.
+  EXPECT_LT(missed, ground_count / 100);
+  for (std::size_t p = ground_count; p < cloud.size(); ++p) {
+    ASSERT_FALSE(g.is_ground[p]) << p;
+    EXPECT_NEAR(g.height[p], 2.0, 0.35);
+  }
+  EXPECT_NEAR(g.terrain.elevation(5.0, 5.0) + cloud.offset.z(), ground_z(5.0, 5.0), 0.2);
+}
+
+TEST(Ground, ATreeScannedWithoutGroundStandsOnItsLowestPoint) {
+  PointCloud cloud;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  // A trunk of radius 0.15 from z = 5 to 7, then a crown 4 m wide whose lowest twigs hang 0.8 m
+  // above the trunk's base.
+  for (int i = 0; i < 4000; ++i) {
+    const double a = 2 * M_PI * u(rng);
+    cloud.positions.emplace_back(0.15 * std::cos(a), 0.15 * std::sin(a), 5.0 + 2.0 * u(rng));
+  }
+  for (int i = 0; i < 8000; ++i)
+    cloud.positions.emplace_back(4.0 * u(rng) - 2.0, 4.0 * u(rng) - 2.0, 5.8 + 3.0 * u(rng));
+  const Ground g = classify_ground(cloud);
+  for (double x : {-1.8, -1.0, 0.0, 1.0, 1.8})
+    for (double y : {-1.8, 0.0, 1.8})
+      EXPECT_NEAR(g.terrain.elevation(x - cloud.offset.x(), y - cloud.offset.y()) + cloud.offset.z(), 5.0, 0.05) << x << ' ' << y;
+}
+
+TEST(Ground, AClassificationIsTakenAsItIs) {
+  PointCloud cloud;
+  add_surface(cloud, 4.0, 0.5, [](double, double) { return 0.0; });
+  cloud.positions.emplace_back(2.0, 2.0, 0.05);  // low, but classified as vegetation
+  cloud.positions.emplace_back(2.0, 2.0, 3.0);
+  std::vector<std::uint8_t> classes(cloud.size(), 2);
+  classes[classes.size() - 2] = 3;
+  classes.back() = 5;
+  const Ground g = classify_ground(cloud, {}, &classes);
+  for (std::size_t p = 0; p < cloud.size(); ++p) EXPECT_EQ(g.is_ground[p], classes[p] == 2) << p;
+  EXPECT_EQ(g.ground_points, cloud.size() - 2);
+}
+
+TEST(Ground, RefusesAnEmptyCloudAndBadOptions) {
+  EXPECT_THROW(classify_ground(PointCloud{}), InputError);
+  PointCloud one;
+  one.positions.emplace_back(0, 0, 0);
+  GroundOptions bad;
+  bad.cell = 0;
+  EXPECT_THROW(classify_ground(one, bad), OptionError);
+  const Ground g = classify_ground(one);
+  EXPECT_EQ(g.ground_points, 1u);
+}
+
+}  // namespace
+}  // namespace treeskel::forest
