@@ -34,6 +34,7 @@ namespace fs = std::filesystem;
 struct Settings {
   std::string input;
   bool segment_only = false;
+  bool ground_filter = false;  // find the ground by the filter even when the file classifies it
   std::size_t min_tree_points = 500;
   std::string stem_slice;  // "LOW,HIGH"
   forest::GroundOptions ground;
@@ -87,7 +88,10 @@ int run(Settings& s) {
   say("reading " + s.input);
   const PointCloud cloud = io::read_point_cloud(s.input);
   Stopwatch stage;
-  const forest::Ground ground = forest::classify_ground(cloud, s.ground);
+  // A LAS file's classification, when it has ground (class 2), is the ground; --ground-filter ignores it.
+  const bool use_classes = !s.ground_filter && std::count(cloud.classes.begin(), cloud.classes.end(), std::uint8_t{2}) > 0;
+  if (use_classes) say("the ground: the file's classification (class 2); --ground-filter finds it by the filter instead");
+  const forest::Ground ground = forest::classify_ground(cloud, s.ground, use_classes ? &cloud.classes : nullptr);
   const double ground_seconds = stage.seconds();
   stage = Stopwatch();
   const std::vector<forest::Stem> stems = forest::find_stems(cloud, ground, s.stems);
@@ -133,6 +137,7 @@ int run(Settings& s) {
     t.positions.push_back(cloud.positions[p]);
     if (cloud.has_normals()) t.normals.push_back(cloud.normals[p]);
     if (cloud.has_colors()) t.colors.push_back(cloud.colors[p]);
+    if (!cloud.classes.empty()) t.classes.push_back(cloud.classes[p]);
   }
   std::vector<std::string> names(stems.size());
   std::vector<std::string> modelled;
@@ -253,7 +258,7 @@ Command add_plot(CLI::App& app) {
   auto s = std::make_shared<Settings>();
   CLI::App* c = app.add_subcommand(
       "plot",
-      "A plot scan to one model per tree: finds the ground (progressive morphological filter) and the stems "
+      "A plot scan to one model per tree: finds the ground (the file's class 2 when a LAS file has one, else a progressive morphological filter) and the stems "
       "(circles in a slice above the ground), gives every other point to the stem nearest along a voxel graph, "
       "and models each tree by the batch runner (a process per tree). The cloud must be z-up and in metres.\n"
       "Writes OUTDIR/labelled.ply (every point with tree_id, 0 for none; class: 0 no tree, 1 ground, 2 tree; "
@@ -275,6 +280,9 @@ Command add_plot(CLI::App& app) {
   const std::string g = "Plot";
   c->add_option("--min-tree-points", s->min_tree_points, "Trees with fewer points are listed but not modelled")
       ->default_val(s->min_tree_points)->group(g);
+  c->add_flag("--ground-filter", s->ground_filter,
+              "Find the ground by the filter even when the file (LAS, LAZ) classifies points as ground (class 2)")
+      ->group(g);
   c->add_option("--ground-cell", s->ground.cell, "Grid step of the ground model")->default_val(s->ground.cell)->check(positive())->group(g);
   c->add_option("--ground-tolerance", s->ground.tolerance, "Points this close above the ground model are ground")
       ->default_val(s->ground.tolerance)->check(not_negative())->group(g);

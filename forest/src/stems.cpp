@@ -40,10 +40,9 @@ bool algebraic_circle(const std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d& 
     ata += row * row.transpose();
     atb += row * -(p.squaredNorm());
   }
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(ata, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const auto& s = svd.singularValues();
-  if (!(s(2) > 1e-12 * s(0))) return false;
-  const Eigen::Vector3d def = svd.solve(atb);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> spectrum(ata, Eigen::EigenvaluesOnly);
+  if (!(spectrum.eigenvalues()(0) > 1e-12 * spectrum.eigenvalues()(2))) return false;  // on a line
+  const Eigen::Vector3d def = ata.ldlt().solve(atb);
   centre = Eigen::Vector2d(-def(0) / 2, -def(1) / 2);
   const double r2 = centre.squaredNorm() - def(2);
   if (!(r2 > 0) || !std::isfinite(r2)) return false;

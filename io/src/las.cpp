@@ -92,8 +92,15 @@ PointCloud read_las(std::string_view data, const std::string& name) {
   const int rgb = rgb_offset[format];
   if (rgb >= 0) cloud.colors.resize(count);
   bool wide_colors = false;
+  // The class: the low five bits of byte 15 in formats 0-5, all of byte 16 in formats 6-10.
+  const std::size_t class_at = format >= 6 ? 16 : 15;
+  const std::uint8_t class_mask = format >= 6 ? 0xff : 0x1f;
+  cloud.classes.resize(count);
+  bool classified = false;
   for (std::size_t i = 0; i < count; ++i) {
     const std::size_t at = point_offset + i * record;
+    cloud.classes[i] = get<std::uint8_t>(data, at + class_at) & class_mask;
+    classified |= cloud.classes[i] > 1;
     for (int a = 0; a < 3; ++a)
       cloud.positions[i][a] = get<std::int32_t>(data, at + 4 * a) * scale[a] + offset[a];
     if (rgb >= 0)
@@ -103,6 +110,7 @@ PointCloud read_las(std::string_view data, const std::string& name) {
         cloud.colors[i][a] = static_cast<std::uint8_t>(std::min<unsigned>(c, 255));
       }
   }
+  if (!classified) cloud.classes.clear();
   if (wide_colors)  // 16-bit colours, as the standard asks: scale them down
     for (std::size_t i = 0; i < count; ++i)
       for (int a = 0; a < 3; ++a)
@@ -151,7 +159,7 @@ void write_las(std::ostream& out, const PointCloud& cloud) {
     for (int a = 0; a < 3; ++a) put(buffer, static_cast<std::int32_t>(std::llround((p[a] - offset[a]) / scale[a])));
     put(buffer, std::uint16_t{0});  // intensity
     put(buffer, std::uint8_t{0x09});  // return 1 of 1
-    put(buffer, std::uint8_t{0});     // classification
+    put(buffer, static_cast<std::uint8_t>(cloud.classes.empty() ? 0 : cloud.classes[i] & 0x1f));  // classification
     put(buffer, std::int8_t{0});      // scan angle
     put(buffer, std::uint8_t{0});     // user data
     put(buffer, std::uint16_t{0});    // point source

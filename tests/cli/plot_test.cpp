@@ -99,6 +99,24 @@ TEST(Plot, ASyntheticPlotSegmentedOnly) {
   }
   EXPECT_FALSE(fs::exists(dir.path("out/trees/tree_001.glb")));
   EXPECT_GT(doc["ground_points"].get<std::size_t>(), 0u);
+
+  // The same plot as LAS with its ground classified (class 2): the classification is the ground.
+  PointCloud classified = plot.cloud;
+  classified.classes.resize(classified.size());
+  std::size_t true_ground = 0;
+  for (std::size_t p = 0; p < classified.size(); ++p) {
+    classified.classes[p] = plot.kind[p] == eval::PointKind::ground ? 2 : 1;
+    true_ground += classified.classes[p] == 2;
+  }
+  io::write_point_cloud(dir.path("plot.las"), classified);
+  const Result las = run("plot " + quoted(dir.path("plot.las")) + " -o " + quoted(dir.path("las")) + " --segment-only");
+  ASSERT_EQ(las.code, 0) << las.out;
+  EXPECT_NE(las.out.find("the file's classification"), std::string::npos) << las.out;
+  const auto from_las = read_json(dir.path("las/trees.json"));
+  EXPECT_EQ(from_las["trees"].size(), 3u);
+  // Ground points are the classified ones, less the stems' bases.
+  EXPECT_LE(from_las["ground_points"].get<std::size_t>(), true_ground);
+  EXPECT_GT(from_las["ground_points"].get<std::size_t>(), true_ground * 99 / 100);
 }
 
 TEST(Plot, NoStemAndBadOptionsFailClearly) {

@@ -61,7 +61,9 @@ TEST(FindCircle, FindsATrunkRingBesideABranch) {
   EXPECT_GT(std::abs(all.radius - 0.1) + all.centre.norm(), 0.01);
   EXPECT_EQ(find_circle(pts, 0.02, 1.0, 7).centre, found.centre);  // deterministic
   const Circle wide = find_circle(pts, 0.5, 1.0);  // only circles that wide: never the trunk's
-  if (wide.ok) EXPECT_GE(wide.radius, 0.5);
+  if (wide.ok) {
+    EXPECT_GE(wide.radius, 0.5);
+  }
   EXPECT_FALSE(find_circle(pts, 1.5, 2.0).ok);
 }
 

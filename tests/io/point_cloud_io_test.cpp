@@ -77,7 +77,9 @@ TEST_P(RoundTrip, WritesAndReadsBack) {
   for (bool binary : {true, false}) {
     const PointCloud c = random_cloud(utm, attributes, true);
     const std::string path = dir.path("cloud." + ext);
-    io::write_point_cloud(path, c, {binary});
+    io::CloudWriteOptions options;
+    options.ply_binary = binary;
+    io::write_point_cloud(path, c, options);
     const PointCloud back = io::read_point_cloud(path);
     expect_same_world(c, back, ext == "las" ? 0.5e-4 + 1e-9 : 1e-9);
     EXPECT_EQ(bounding_box(back).min(), Eigen::Vector3d::Zero());  // the reader's local frame
@@ -231,6 +233,8 @@ std::string las14(std::uint64_t declared, std::uint64_t present) {
     std::string rec(30, '\0');
     const std::int32_t xyz[3] = {std::int32_t(100 * i), std::int32_t(200 + i), std::int32_t(300)};
     std::memcpy(&rec[0], xyz, 12);
+    rec[15] = static_cast<char>(0xf0);            // classification flags and scanner channel: not the class
+    rec[16] = static_cast<char>(i == 0 ? 2 : 40);  // the class, a whole byte in formats 6-10
     h += rec;
   }
   return h;
@@ -243,6 +247,18 @@ TEST(ReadLas, Version14PointFormat6) {
   const PointCloud c = io::read_point_cloud(path);
   ASSERT_EQ(c.size(), 3u);
   EXPECT_NEAR((c.positions[2] + c.offset - Eigen::Vector3d(500002.0, 4000002.02, 3.0)).norm(), 0.0, 1e-6);
+  EXPECT_EQ(c.classes, (std::vector<std::uint8_t>{2, 40, 40}));
+}
+
+TEST(ReadLas, ClassesKeptWhenAnyPointIsClassifiedAndWrittenBack) {
+  const TempDir dir;
+  PointCloud c = random_cloud(true, false, false);
+  io::write_point_cloud(dir.path("none.las"), c);
+  EXPECT_TRUE(io::read_point_cloud(dir.path("none.las")).classes.empty());  // all 0: no classification
+  c.classes.resize(c.size());
+  for (std::size_t i = 0; i < c.size(); ++i) c.classes[i] = static_cast<std::uint8_t>(i % 3 == 0 ? 2 : i % 3 == 1 ? 5 : 1);
+  io::write_point_cloud(dir.path("classes.las"), c);
+  EXPECT_EQ(io::read_point_cloud(dir.path("classes.las")).classes, c.classes);
 }
 
 TEST(ReadLaz, DecompressesThroughLazPerfToThePointsOfTheTextVersion) {

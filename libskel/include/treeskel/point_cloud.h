@@ -20,6 +20,9 @@ struct PointCloud {
   std::vector<Eigen::Vector3d> positions;       ///< local coordinates, in the input's units
   std::vector<Eigen::Vector3f> normals;         ///< empty, or one per point
   std::vector<std::array<std::uint8_t, 3>> colors;  ///< empty, or one RGB per point
+  /// Empty, or one ASPRS class per point as a LAS file gives it (2 ground, 3-5 vegetation, ...); the
+  /// LAS reader fills it when any point has a class other than 0 and 1 (never classified, unclassified).
+  std::vector<std::uint8_t> classes;
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< added to a local position to get the input's frame
 
   std::size_t size() const { return positions.size(); }
