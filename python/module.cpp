@@ -6,6 +6,9 @@
 #include "skeleton_options.h"
 
 #include "treeskel/error.h"
+#include "treeskel/forest/ground.h"
+#include "treeskel/forest/segment.h"
+#include "treeskel/forest/stems.h"
 #include "treeskel/io/atomic_file.h"
 #include "treeskel/io/output_set.h"
 #include "treeskel/io/mesh_io.h"
@@ -414,6 +417,67 @@ PYBIND11_MODULE(_treeskel, m) {
   m.attr("_built_executable") = TREESKEL_BUILT_EXE;
   m.attr("_built_package") = TREESKEL_BUILT_PACKAGE;
   m.attr("_installed_executable") = TREESKEL_INSTALLED_EXE;
+
+  m.def("segment_plot", [](const py::object& points, double voxel, double max_gap, std::pair<double, double> stem_slice,
+                           double ground_cell, double ground_tolerance) {
+    const std::shared_ptr<const Cloud> c = cloud_from(points);
+    forest::GroundOptions go;
+    go.cell = ground_cell;
+    go.tolerance = ground_tolerance;
+    forest::StemOptions so;
+    so.slice_bottom = stem_slice.first;
+    so.slice_top = stem_slice.second;
+    forest::SegmentOptions seg_options;
+    seg_options.voxel = voxel;
+    seg_options.max_gap = max_gap;
+    forest::Ground ground;
+    std::vector<forest::Stem> stems;
+    forest::Segmentation seg;
+    std::vector<forest::TreeShape> shapes;
+    {
+      py::gil_scoped_release free;
+      const bool classified = std::count(c->cloud.classes.begin(), c->cloud.classes.end(), std::uint8_t{2}) > 0;
+      ground = forest::classify_ground(c->cloud, go, classified ? &c->cloud.classes : nullptr);
+      stems = forest::find_stems(c->cloud, ground, so);
+      seg = forest::segment_trees(c->cloud, ground, stems, so, seg_options);
+      shapes = forest::describe_trees(c->cloud, stems, seg, so);
+    }
+    const std::size_t n = c->cloud.size();
+    py::array_t<std::uint32_t> tree(static_cast<py::ssize_t>(n));
+    py::array_t<bool> is_ground(static_cast<py::ssize_t>(n));
+    py::array_t<float> height(static_cast<py::ssize_t>(n));
+    for (std::size_t p = 0; p < n; ++p) {
+      tree.mutable_at(p) = seg.tree[p];
+      is_ground.mutable_at(p) = ground.is_ground[p] && seg.tree[p] == 0;
+      height.mutable_at(p) = ground.height[p];
+    }
+    py::list trees;
+    for (std::size_t t = 0; t < stems.size(); ++t) {
+      py::dict d;
+      d["id"] = t + 1;
+      d["x"] = stems[t].centre.x() + c->cloud.offset.x();
+      d["y"] = stems[t].centre.y() + c->cloud.offset.y();
+      d["ground_z"] = stems[t].ground + c->cloud.offset.z();
+      d["stem_dbh"] = 2 * stems[t].radius;
+      d["points"] = shapes[t].points;
+      d["height"] = shapes[t].height;
+      d["crown_base"] = shapes[t].crown_base;
+      trees.append(d);
+    }
+    py::dict out;
+    out["tree"] = tree;
+    out["ground"] = is_ground;
+    out["height"] = height;
+    out["trees"] = trees;
+    return out;
+  }, py::arg("points"), py::arg("voxel") = forest::SegmentOptions{}.voxel, py::arg("max_gap") = forest::SegmentOptions{}.max_gap,
+     py::arg("stem_slice") = std::make_pair(forest::StemOptions{}.slice_bottom, forest::StemOptions{}.slice_top),
+     py::arg("ground_cell") = forest::GroundOptions{}.cell, py::arg("ground_tolerance") = forest::GroundOptions{}.tolerance,
+        "The trees of a plot scan, as `treeskel plot --segment-only` finds them: a dict with 'tree' (per "
+        "point: 1 + the tree's index, 0 for none), 'ground' (per point: ground, and in no tree), 'height' (per "
+        "point: above the ground) and 'trees' (per tree: id, x, y and ground_z of its stem in the input's frame, "
+        "stem_dbh, points, height, crown_base). `points`: an (N, 3) array, a file name or a Cloud; a LAS "
+        "file's ground class is its ground");
 
   m.def("model", [](const py::object& points, const py::kwargs& kwargs) {
     // The method's and the model's options together, as `treeskel model` takes them.

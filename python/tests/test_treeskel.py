@@ -127,3 +127,34 @@ def test_the_gil_is_released_during_the_work(data):
     seconds = time.monotonic() - start
     # Held, this thread would not have run until the model was done.
     assert seconds > 0.2 and ticks > 50, (seconds, ticks)
+
+
+def two_trees(data):
+    """The bundled AdTree tree twice, 10 m apart: a plot of two trees."""
+    tree = np.loadtxt(data / "tree_adtree1.xyz")
+    return np.vstack([tree, tree + [10.0, 0.0, 0.0]])
+
+
+def test_segment_plot_finds_both_trees_point_by_point(data):
+    points = two_trees(data)
+    found = treeskel.segment_plot(points)
+    assert [t["id"] for t in found["trees"]] == [1, 2]
+    assert abs(found["trees"][1]["x"] - found["trees"][0]["x"] - 10.0) < 0.05
+    tree = found["tree"]
+    assert tree.shape == (len(points),) and found["ground"].shape == (len(points),)
+    half = len(points) // 2
+    # Each copy is (nearly all) its own tree, and no point is in both a tree and the ground.
+    assert (tree[:half] == 1).mean() > 0.95 and (tree[half:] == 2).mean() > 0.95
+    assert not (found["ground"] & (tree > 0)).any()
+    assert found["trees"][0]["points"] == (tree == 1).sum()
+    with pytest.raises(ValueError, match="slice"):
+        treeskel.segment_plot(points, stem_slice=(2.0, 1.0))
+
+
+def test_plot_runs_the_command(data, tmp_path):
+    np.savetxt(tmp_path / "two.xyz", two_trees(data))
+    result = treeskel.plot(tmp_path / "two.xyz", tmp_path / "out", segment_only=True, stem_slice=(0.3, 1.8))
+    assert [t["status"] for t in result["trees"]] == ["segmented", "segmented"]
+    assert (tmp_path / "out" / "trees" / "tree_002.ply").exists()
+    with pytest.raises(ValueError, match="stem-slice"):
+        treeskel.plot(tmp_path / "two.xyz", tmp_path / "bad", stem_slice=(2, 1))
