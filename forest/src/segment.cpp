@@ -1,5 +1,7 @@
 #include "treeskel/forest/segment.h"
 
+#include "voxels.h"
+
 #include "treeskel/error.h"
 #include "treeskel/geodesic.h"
 #include "treeskel/neighbour_graph.h"
@@ -24,97 +26,17 @@ namespace treeskel::forest {
 
 namespace {
 
+using detail::kMask;
+using detail::Voxels;
+using detail::make_voxels;
+using detail::voxel_graph;
+
 using Kernel = CGAL::Simple_cartesian<double>;
 using Point = Kernel::Point_3;
 using PointMap = CGAL::Pointer_property_map<Point>::type;
 using Traits = CGAL::Search_traits_adapter<std::uint32_t, PointMap, CGAL::Search_traits_3<Kernel>>;
 using Nearest = CGAL::Orthogonal_k_neighbor_search<Traits>;
 using KdTree = Nearest::Tree;
-
-constexpr int kBits = 21;  // per axis of a voxel key
-constexpr std::uint64_t kMask = (std::uint64_t{1} << kBits) - 1;
-
-/// The voxels of the points off the ground: sorted keys, each voxel's points, each point's voxel.
-struct Voxels {
-  std::vector<std::uint64_t> keys;           // sorted, one per voxel
-  std::vector<std::uint32_t> first;          // voxel v holds members[first[v] .. first[v + 1])
-  std::vector<std::uint32_t> members;        // point indices, by voxel
-  std::vector<std::uint32_t> of_point;       // per point; npos for ground points
-  static constexpr std::uint32_t npos = std::numeric_limits<std::uint32_t>::max();
-
-  std::size_t size() const { return keys.size(); }
-  std::int64_t find(std::uint64_t key) const {
-    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
-    return it != keys.end() && *it == key ? it - keys.begin() : -1;
-  }
-};
-
-Eigen::Vector3i unpack(std::uint64_t key) {
-  return {static_cast<int>(key & kMask), static_cast<int>((key >> kBits) & kMask), static_cast<int>(key >> (2 * kBits))};
-}
-
-std::uint64_t pack(const Eigen::Vector3i& g) {
-  return static_cast<std::uint64_t>(g.x()) | (static_cast<std::uint64_t>(g.y()) << kBits) |
-         (static_cast<std::uint64_t>(g.z()) << (2 * kBits));
-}
-
-Voxels make_voxels(const PointCloud& cloud, const Ground& ground, double voxel, const Eigen::Vector3d& low) {
-  Voxels v;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;
-  keyed.reserve(cloud.size() - ground.ground_points);
-  for (std::size_t p = 0; p < cloud.size(); ++p) {
-    if (ground.is_ground[p]) continue;
-    const Eigen::Vector3d g = ((cloud.positions[p] - low) / voxel).array().floor();
-    keyed.emplace_back(pack(g.cast<int>()), static_cast<std::uint32_t>(p));
-  }
-  tbb::parallel_sort(keyed.begin(), keyed.end());
-  v.of_point.assign(cloud.size(), Voxels::npos);
-  v.members.reserve(keyed.size());
-  for (std::size_t i = 0; i < keyed.size(); ++i) {
-    if (i == 0 || keyed[i].first != keyed[i - 1].first) {
-      v.keys.push_back(keyed[i].first);
-      v.first.push_back(static_cast<std::uint32_t>(i));
-    }
-    v.members.push_back(keyed[i].second);
-    v.of_point[keyed[i].second] = static_cast<std::uint32_t>(v.keys.size() - 1);
-  }
-  v.first.push_back(static_cast<std::uint32_t>(keyed.size()));
-  return v;
-}
-
-/// Each voxel joined to the occupied ones of its 26 neighbours, at the distance between their centres.
-CellGraph voxel_graph(const Voxels& v, double voxel) {
-  const std::size_t n = v.size();
-  std::vector<std::array<std::int64_t, 26>> near(n);
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t c) {
-    const Eigen::Vector3i g = unpack(v.keys[c]);
-    int k = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          if (dx == 0 && dy == 0 && dz == 0) continue;
-          const Eigen::Vector3i h = g + Eigen::Vector3i(dx, dy, dz);
-          near[c][k++] = (h.array() < 0).any() || (h.array() > static_cast<int>(kMask)).any() ? -1 : v.find(pack(h));
-        }
-  });
-  CellGraph graph;
-  graph.offsets.assign(n + 1, 0);
-  for (std::size_t c = 0; c < n; ++c)
-    graph.offsets[c + 1] = graph.offsets[c] + static_cast<std::uint32_t>(std::count_if(near[c].begin(), near[c].end(), [](std::int64_t t) { return t >= 0; }));
-  graph.targets.resize(graph.offsets[n]);
-  graph.weights.resize(graph.offsets[n]);
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t c) {
-    std::uint32_t at = graph.offsets[c];
-    const Eigen::Vector3i g = unpack(v.keys[c]);
-    for (std::int64_t t : near[c]) {
-      if (t < 0) continue;
-      graph.targets[at] = static_cast<std::uint32_t>(t);
-      graph.weights[at] = voxel * (unpack(v.keys[t]) - g).cast<double>().norm();
-      ++at;
-    }
-  });
-  return graph;
-}
 
 }  // namespace
 
@@ -129,7 +51,9 @@ Segmentation segment_trees(const PointCloud& cloud, const Ground& ground, const 
   const Eigen::Vector3d low = bounding_box(cloud).min();
   if (((bounding_box(cloud).sizes() / o.voxel).array() >= static_cast<double>(kMask)).any())
     throw InputError("the plot is too large for voxels of " + std::to_string(o.voxel) + " (is it in metres?)");
-  const Voxels v = make_voxels(cloud, ground, o.voxel, low);
+  std::vector<std::uint8_t> off_ground(cloud.size());
+  for (std::size_t p = 0; p < cloud.size(); ++p) off_ground[p] = !ground.is_ground[p];
+  const Voxels v = make_voxels(cloud, off_ground, o.voxel, low);
   s.voxels = v.size();
   const CellGraph graph = voxel_graph(v, o.voxel);
 
@@ -179,7 +103,7 @@ Segmentation segment_trees(const PointCloud& cloud, const Ground& ground, const 
   std::vector<char> pending(parts, 0);
   for (std::uint32_t c = 0; c < parts; ++c) pending[c] = !part_reached[c] && part_top[c] >= o.understorey;
   auto centre_of = [&](std::size_t vi) {
-    const Eigen::Vector3d c = (unpack(v.keys[vi]).cast<double>().array() + 0.5) * o.voxel;
+    const Eigen::Vector3d c = v.centre(vi, o.voxel);
     return Point(c.x(), c.y(), c.z());
   };
   while (std::find(pending.begin(), pending.end(), 1) != pending.end()) {
