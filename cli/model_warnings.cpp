@@ -74,7 +74,7 @@ std::vector<std::string> sanity_warnings(const Skeleton& skeleton, const Eigen::
     std::ostringstream w;
     w << far << " of the cloud's " << all << " points (" << std::lround(100.0 * static_cast<double>(far) / static_cast<double>(all))
       << "%) lie in parts too far from the tree to be joined to it and are left out of the model: the cloud may hold "
-      << "several trees (a plot, a street) or a tree that occlusion cut in pieces; split it into trees first, or join "
+      << "several trees (a plot, a street) or a tree that occlusion cut in pieces; 'treeskel plot' models each tree of a plot, or join "
       << "the parts with a longer --bridge";
     out.push_back(w.str());
   }

@@ -235,6 +235,7 @@ TEST(Cli, ModelWarnsWhenACloudHoldsSeveralTrees) {
   const Result two = run("model two.xyz -o two.glb --report two.json", dir.root());
   ASSERT_EQ(two.code, 0) << two.out;
   EXPECT_NE(two.out.find("several trees"), std::string::npos) << two.out;
+  EXPECT_NE(two.out.find("'treeskel plot' models each tree"), std::string::npos) << two.out;
   std::ifstream in(dir.path("two.json"));
   const auto warnings = nlohmann::json::parse(in)["warnings"];
   EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(),
