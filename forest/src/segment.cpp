@@ -38,6 +38,44 @@ using Traits = CGAL::Search_traits_adapter<std::uint32_t, PointMap, CGAL::Search
 using Nearest = CGAL::Orthogonal_k_neighbor_search<Traits>;
 using KdTree = Nearest::Tree;
 
+/// The stems by plan cells at least as wide as the widest stem's circle plus the margin, to find the
+/// stem whose circle (plus the margin) holds a point without trying every stem.
+class StemIndex {
+public:
+  StemIndex(const std::vector<Stem>& stems, double margin) : stems_(stems), margin_(margin) {
+    for (const auto& st : stems) cell_ = std::max(cell_, st.radius + margin);
+    for (std::size_t t = 0; t < stems.size(); ++t)
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          cells_[key(stems[t].centre + cell_ * Eigen::Vector2d(dx, dy))].push_back(static_cast<std::uint32_t>(t));
+  }
+
+  /// The nearest stem whose circle plus the margin holds `at` in plan, as (1 + its index, distance
+  /// to its centre); (0, infinity) when none does.
+  std::pair<std::uint32_t, double> holding(const Eigen::Vector2d& at) const {
+    std::pair<std::uint32_t, double> best{0, std::numeric_limits<double>::infinity()};
+    const auto it = cells_.find(key(at));
+    if (it == cells_.end()) return best;
+    for (std::uint32_t t : it->second) {
+      const double d = (at - stems_[t].centre).norm();
+      if (d <= stems_[t].radius + margin_ && d < best.second) best = {t + 1, d};
+    }
+    return best;
+  }
+
+private:
+  std::uint64_t key(const Eigen::Vector2d& at) const {
+    const auto i = static_cast<std::int32_t>(std::floor(at.x() / cell_));
+    const auto j = static_cast<std::int32_t>(std::floor(at.y() / cell_));
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) | static_cast<std::uint32_t>(j);
+  }
+
+  const std::vector<Stem>& stems_;
+  double margin_;
+  double cell_ = 0.5;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+};
+
 }  // namespace
 
 Segmentation segment_trees(const PointCloud& cloud, const Ground& ground, const std::vector<Stem>& stems,
@@ -59,18 +97,17 @@ Segmentation segment_trees(const PointCloud& cloud, const Ground& ground, const 
 
   // Seeds: the voxels of each stem's trunk, up to the slice's top; a voxel two stems claim goes to the
   // nearer centre.
+  const StemIndex stem_index(stems, o.seed_margin);
   std::vector<std::uint32_t> label(v.size(), 0);
   std::vector<double> seed_distance(v.size(), std::numeric_limits<double>::infinity());
   for (std::size_t vi = 0; vi < v.size(); ++vi)
     for (std::uint32_t m = v.first[vi]; m < v.first[vi + 1]; ++m) {
       const std::uint32_t p = v.members[m];
       if (ground.height[p] > stem_options.slice_top) continue;
-      for (std::size_t t = 0; t < stems.size(); ++t) {
-        const double d = (cloud.positions[p].head<2>() - stems[t].centre).norm();
-        if (d <= stems[t].radius + o.seed_margin && d < seed_distance[vi]) {
-          seed_distance[vi] = d;
-          label[vi] = static_cast<std::uint32_t>(t + 1);
-        }
+      const auto [stem, d] = stem_index.holding(cloud.positions[p].head<2>());
+      if (stem && d < seed_distance[vi]) {
+        seed_distance[vi] = d;
+        label[vi] = stem;
       }
     }
   std::vector<std::uint32_t> sources;
@@ -153,33 +190,10 @@ Segmentation segment_trees(const PointCloud& cloud, const Ground& ground, const 
   }
   // The ground's points inside a stem's circle are its base: the tree then reaches the ground, and
   // its height and breast height are measured from there.
-  if (!stems.empty()) {
-    double reach = 0;
-    for (const auto& st : stems) reach = std::max(reach, st.radius + o.seed_margin);
-    const double cell = std::max(reach, 0.5);
-    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> near;
-    auto key = [&](double x, double y) {
-      return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(x / cell)))) << 32) |
-             static_cast<std::uint32_t>(static_cast<std::int32_t>(std::floor(y / cell)));
-    };
-    for (std::size_t t = 0; t < stems.size(); ++t)
-      for (int dx = -1; dx <= 1; ++dx)
-        for (int dy = -1; dy <= 1; ++dy)
-          near[key(stems[t].centre.x() + dx * cell, stems[t].centre.y() + dy * cell)].push_back(static_cast<std::uint32_t>(t));
-    for (std::size_t p = 0; p < cloud.size(); ++p) {
-      if (!ground.is_ground[p]) continue;
-      const auto it = near.find(key(cloud.positions[p].x(), cloud.positions[p].y()));
-      if (it == near.end()) continue;
-      double best = std::numeric_limits<double>::infinity();
-      for (std::uint32_t t : it->second) {
-        const double d = (cloud.positions[p].head<2>() - stems[t].centre).norm();
-        if (d <= stems[t].radius + o.seed_margin && d < best) {
-          best = d;
-          s.tree[p] = t + 1;
-        }
-      }
-      s.stem_base_points += s.tree[p] != 0;
-    }
+  for (std::size_t p = 0; p < cloud.size(); ++p) {
+    if (!ground.is_ground[p]) continue;
+    s.tree[p] = stem_index.holding(cloud.positions[p].head<2>()).first;
+    s.stem_base_points += s.tree[p] != 0;
   }
   return s;
 }
