@@ -22,6 +22,8 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <regex>
+#include <set>
 #include <memory>
 #include <sstream>
 
@@ -140,13 +142,33 @@ int run(Settings& s) {
     if (!cloud.classes.empty()) t.classes.push_back(cloud.classes[p]);
   }
   std::vector<std::string> names(stems.size());
+  for (std::size_t t = 0; t < stems.size(); ++t) names[t] = tree_name(t + 1, stems.size());
+  // What an earlier run left in trees/ that this one does not make again: the files of trees it no
+  // longer finds, and the outputs of a tree whose cloud changed (other options, another input), which
+  // --resume would otherwise keep as done.
+  const std::set<std::string> current(names.begin(), names.end());
+  std::set<std::string> changed;
   std::vector<std::string> modelled;
   for (std::size_t t = 0; t < stems.size(); ++t) {
-    names[t] = tree_name(t + 1, stems.size());
     const fs::path file = out_dir / "trees" / (names[t] + ".ply");
-    if (trees[t].empty()) continue;
+    const std::string before = fs::is_regular_file(file, ec) ? io::read_whole_file(file) : std::string();
+    if (trees[t].empty()) {
+      changed.insert(names[t]);
+      fs::remove(file, ec);
+      continue;
+    }
     io::write_point_cloud(file, trees[t]);
+    if (before != io::read_whole_file(file)) changed.insert(names[t]);
     if (trees[t].size() >= s.min_tree_points) modelled.push_back(file.string());
+  }
+  static const std::regex made_by_plot(R"((tree_[0-9]+)(_report\.json|_skeleton\.[a-z]+|\.[a-z]+))");
+  for (const auto& entry : fs::directory_iterator(out_dir / "trees", ec)) {
+    std::smatch m;
+    const std::string file = entry.path().filename().string();
+    if (!std::regex_match(file, m, made_by_plot)) continue;
+    const bool gone = !current.count(m[1].str());
+    const bool stale = changed.count(m[1].str()) && m[2].str() != ".ply";
+    if (gone || stale) fs::remove(entry.path(), ec);
   }
   std::vector<view::PlanLabel> labels;
   for (std::size_t t = 0; t < stems.size(); ++t) labels.push_back({stems[t].centre, std::to_string(t + 1)});

@@ -77,6 +77,12 @@ TEST(Plot, TwoTreesSideBySideGiveTwoModelsInTheInputsFrame) {
             std::string::npos);
   EXPECT_EQ(read_text(dir.path("out/plan.png")).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
   EXPECT_EQ(std::count(std::istreambuf_iterator<char>(*std::make_unique<std::ifstream>(dir.path("out/trees.csv"))), {}, '\n'), 3);
+
+  // Again with --resume: the same trees, so their models are kept, not made again.
+  const Result again = run("plot " + quoted(dir.path("two.ply")) + " -o " + quoted(dir.path("out")) + " --local --resume");
+  ASSERT_EQ(again.code, 0) << again.out;
+  EXPECT_NE(again.out.find("2 inputs: 2 converted (2 before this run)"), std::string::npos) << again.out;
+  EXPECT_EQ(read_json(dir.path("out/trees.json"))["trees"], doc["trees"]);
 }
 
 TEST(Plot, ASyntheticPlotSegmentedOnly) {
@@ -88,6 +94,12 @@ TEST(Plot, ASyntheticPlotSegmentedOnly) {
   o.points_per_tree = 8000;
   const eval::SyntheticPlot plot = eval::make_plot(o);
   io::write_point_cloud(dir.path("plot.ply"), plot.cloud);
+  // What an earlier run with other results left: a tree this run does not find, a tree whose cloud
+  // was another, and a file of the user's.
+  fs::create_directories(dir.path("out/trees"));
+  for (const char* old : {"tree_009.ply", "tree_009.glb", "tree_009_report.json", "tree_001.ply", "tree_001.glb",
+                          "tree_001_skeleton.json", "notes.txt"})
+    std::ofstream(dir.path("out/trees/") + old) << "from before\n";
   const Result r = run("plot " + quoted(dir.path("plot.ply")) + " -o " + quoted(dir.path("out")) + " --segment-only");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto doc = read_json(dir.path("out/trees.json"));
@@ -97,7 +109,10 @@ TEST(Plot, ASyntheticPlotSegmentedOnly) {
     EXPECT_TRUE(row["model"].is_null());
     EXPECT_TRUE(fs::exists(dir.path("out/trees/" + row["name"].get<std::string>() + ".ply")));
   }
-  EXPECT_FALSE(fs::exists(dir.path("out/trees/tree_001.glb")));
+  for (const char* stale : {"tree_009.ply", "tree_009.glb", "tree_009_report.json", "tree_001.glb", "tree_001_skeleton.json"})
+    EXPECT_FALSE(fs::exists(dir.path("out/trees/") + stale)) << stale;
+  EXPECT_TRUE(fs::exists(dir.path("out/trees/notes.txt")));
+  EXPECT_GT(fs::file_size(dir.path("out/trees/tree_001.ply")), 1000u);
   EXPECT_GT(doc["ground_points"].get<std::size_t>(), 0u);
 
   // The same plot as LAS with its ground classified (class 2): the classification is the ground.
