@@ -257,7 +257,8 @@ int run(Settings& s) {
   doc["trees"] = list;
   io::write_atomically(out_dir / "trees.json", [&](std::ostream& out) { out << doc.dump(2) << '\n'; });
 
-  const std::size_t failed = rows.size() - ok;
+  std::size_t failed = 0;
+  for (const auto& [name, row] : rows) failed += row.status == "failed";
   std::ostringstream line;
   line << stems.size() << " trees";
   if (!s.segment_only) line << ", " << ok << " modelled" << (failed ? ", " + std::to_string(failed) + " failed" : "");
@@ -288,7 +289,7 @@ Command add_plot(CLI::App& app) {
       "tree_NNN_report.json beside, OUTDIR/trees.csv and trees.json (id, stem position in the input's frame, "
       "ground elevation, points, height, crown base, stem DBH from the slice, model DBH, volume, coverage, "
       "status) and OUTDIR/plan.png (the plot from above, a colour and the id per tree). Exit code 0 when every "
-      "tree modelled, 1 when any failed or no stem was found.");
+      "tree with --min-tree-points or more points modelled, 1 when any failed or no stem was found.");
   c->add_option("input", s->input, "The plot's cloud (.xyz .txt .csv .ply .las .laz ...)")->required();
   c->add_option("-o,--output", s->batch.out_dir, "Folder to write into (made if missing)")->required();
   c->add_option("--model", s->batch.model, "Mesh format of each tree's model: glb (the default), gltf, obj, ply or stl");
