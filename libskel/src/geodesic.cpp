@@ -2,11 +2,10 @@
 
 #include "treeskel/error.h"
 
-#include <boost/graph/compressed_sparse_row_graph.hpp>
-#include <boost/graph/dijkstra_shortest_paths.hpp>
-
 #include <algorithm>
+#include <functional>
 #include <limits>
+#include <utility>
 
 namespace treeskel {
 
@@ -53,40 +52,43 @@ std::vector<std::uint32_t> select_root_cells(const OctreeCells& cells, const Cel
 }
 
 GeodesicField geodesic_distance(const CellGraph& graph, const std::vector<std::uint32_t>& sources) {
-  using Csr = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, double>;
   const std::size_t n = graph.vertex_count();
-  // A virtual source joined to every root cell by a zero-length edge turns the multi-source problem
-  // into a single-source one. Edges must be listed by source: cells first, then the virtual source.
-  std::vector<std::pair<std::size_t, std::size_t>> edges;
-  std::vector<double> weights;
-  edges.reserve(graph.targets.size() + sources.size());
-  weights.reserve(edges.capacity());
-  for (std::size_t c = 0; c < n; ++c)
-    for (auto e = graph.offsets[c]; e < graph.offsets[c + 1]; ++e) {
-      edges.emplace_back(c, graph.targets[e]);
-      weights.push_back(graph.weights[e]);
-    }
+  const double inf = std::numeric_limits<double>::infinity();
+  GeodesicField field;
+  field.distance.assign(n, inf);
+  field.predecessor.assign(n, -1);
+  // Dijkstra on the graph's own arrays, with a binary heap that may hold a cell more than once (a
+  // stale entry is skipped when it comes up). Among cells at the same distance the lowest index
+  // comes first, and an edge improves a cell only when it makes it strictly nearer: the field does
+  // not depend on anything but the graph.
+  using Entry = std::pair<double, std::uint32_t>;
+  std::vector<Entry> heap;
+  heap.reserve(n);
+  const auto later = std::greater<Entry>();
   for (auto s : sources) {
     TREESKEL_REQUIRE(s < n, "a root cell is out of range");
-    edges.emplace_back(n, s);
-    weights.push_back(0.0);
+    if (field.distance[s] == 0.0) continue;
+    field.distance[s] = 0.0;
+    heap.emplace_back(0.0, s);
   }
-  const Csr csr(boost::edges_are_sorted, edges.begin(), edges.end(), weights.begin(), n + 1);
-  std::vector<double> distance(n + 1);
-  std::vector<std::size_t> predecessor(n + 1);
-  boost::dijkstra_shortest_paths(
-      csr, n,
-      boost::weight_map(boost::get(boost::edge_bundle, csr))
-          .distance_map(boost::make_iterator_property_map(distance.begin(), boost::get(boost::vertex_index, csr)))
-          .predecessor_map(boost::make_iterator_property_map(predecessor.begin(), boost::get(boost::vertex_index, csr))));
-  GeodesicField field;
-  field.distance.assign(distance.begin(), distance.begin() + static_cast<std::ptrdiff_t>(n));
-  field.predecessor.resize(n);
-  const double inf = std::numeric_limits<double>::max();
-  for (std::size_t c = 0; c < n; ++c) {
-    if (distance[c] >= inf) field.distance[c] = std::numeric_limits<double>::infinity();
-    const bool reached = std::isfinite(field.distance[c]);
-    field.predecessor[c] = (!reached || predecessor[c] == n || predecessor[c] == c) ? -1 : static_cast<std::int64_t>(predecessor[c]);
+  std::make_heap(heap.begin(), heap.end(), later);
+  std::vector<std::uint8_t> done(n, 0);
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), later);
+    const auto [d, c] = heap.back();
+    heap.pop_back();
+    if (done[c]) continue;
+    done[c] = 1;
+    for (auto e = graph.offsets[c]; e < graph.offsets[c + 1]; ++e) {
+      const auto o = graph.targets[e];
+      const double through = d + graph.weights[e];
+      if (through < field.distance[o]) {
+        field.distance[o] = through;
+        field.predecessor[o] = c;
+        heap.emplace_back(through, o);
+        std::push_heap(heap.begin(), heap.end(), later);
+      }
+    }
   }
   return field;
 }

@@ -1,6 +1,6 @@
 /// @file geodesic.h
 /// Geodesic distance from the root on the neighbour graph (Fu et al. 2020, section IV.B), by
-/// Boost.Graph's Dijkstra, and the choice of the root.
+/// Dijkstra's algorithm, and the choice of the root.
 #pragma once
 
 #include "treeskel/neighbour_graph.h"
@@ -38,7 +38,9 @@ double root_slice_for(const RootOptions& options, const OctreeCells& cells);
 std::vector<std::uint32_t> select_root_cells(const OctreeCells& cells, const CellGraph& graph,
                                              const std::vector<bool>& in_tree, const RootOptions& options = {});
 
-/// Shortest-path distances from the nearest of `sources` (multi-source Dijkstra, Boost.Graph).
+/// Shortest-path distances from the nearest of `sources` (multi-source Dijkstra). Ties are broken
+/// the same way every time: of two cells at the same distance the lower index is settled first, and
+/// a cell's predecessor is the first settled cell that gives it its distance.
 GeodesicField geodesic_distance(const CellGraph& graph, const std::vector<std::uint32_t>& sources);
 
 }  // namespace treeskel
