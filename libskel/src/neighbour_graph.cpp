@@ -47,30 +47,113 @@ struct MedianIndex {
 
 using CellSets = DisjointSets<std::uint32_t>;
 
-using Adjacency = std::vector<std::vector<std::uint32_t>>;
+constexpr std::uint64_t kNoKey = ~std::uint64_t{0};
+
+/// Neighbour lists in compressed rows: cell c's are `targets[offsets[c] .. offsets[c+1])`.
+struct Adjacency {
+  std::vector<std::uint32_t> offsets{0};
+  std::vector<std::uint32_t> targets;
+  std::size_t size() const { return offsets.size() - 1; }
+  const std::uint32_t* begin(std::size_t c) const { return targets.data() + offsets[c]; }
+  const std::uint32_t* end(std::size_t c) const { return targets.data() + offsets[c + 1]; }
+};
+
+/// The cells by Morton key in an open-addressing hash table: a lookup takes a probe or two where a
+/// binary search of the sorted keys took about seventeen.
+class KeyTable {
+public:
+  explicit KeyTable(const std::vector<std::uint64_t>& keys) {
+    int bits = 4;
+    while ((std::size_t{1} << bits) < 2 * keys.size()) ++bits;
+    shift_ = 64 - bits;
+    mask_ = (std::size_t{1} << bits) - 1;
+    slots_.assign(mask_ + 1, Slot{kEmpty, 0});
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      std::size_t s = slot(keys[i]);
+      while (slots_[s].key != kEmpty) s = (s + 1) & mask_;
+      slots_[s] = Slot{keys[i], static_cast<std::uint32_t>(i)};
+    }
+  }
+  /// The cell with this key, or -1.
+  std::int64_t find(std::uint64_t key) const {
+    for (std::size_t s = slot(key);; s = (s + 1) & mask_) {
+      if (slots_[s].key == key) return slots_[s].cell;
+      if (slots_[s].key == kEmpty) return -1;
+    }
+  }
+
+private:
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};  // no Morton key has the top bit
+  struct Slot {
+    std::uint64_t key;
+    std::uint32_t cell;
+  };
+  std::size_t slot(std::uint64_t key) const { return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift_); }
+  std::vector<Slot> slots_;
+  std::size_t mask_ = 0;
+  int shift_ = 60;
+};
+
+/// Concatenates rows made block by block: `blocks[b]` holds the rows of cells [b * block, ...) and
+/// `counts` the length of each row.
+Adjacency concatenate(const std::vector<std::vector<std::uint32_t>>& blocks, const std::vector<std::uint32_t>& counts) {
+  Adjacency adj;
+  adj.offsets.resize(counts.size() + 1);
+  adj.offsets[0] = 0;
+  for (std::size_t c = 0; c < counts.size(); ++c) adj.offsets[c + 1] = adj.offsets[c] + counts[c];
+  adj.targets.reserve(adj.offsets.back());
+  for (const auto& b : blocks) adj.targets.insert(adj.targets.end(), b.begin(), b.end());
+  return adj;
+}
 
 Adjacency octree_adjacency(const OctreeCells& cells, int reach) {
-  Adjacency adj(cells.cell_count());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.cell_count(), 512), [&](const auto& range) {
-    for (std::size_t c = range.begin(); c != range.end(); ++c) {
-      const Eigen::Vector3i g = cells.coordinates(c);
-      for (int dz = -reach; dz <= reach; ++dz)
-        for (int dy = -reach; dy <= reach; ++dy)
-          for (int dx = -reach; dx <= reach; ++dx) {
-            if (dx == 0 && dy == 0 && dz == 0) continue;
-            const auto other = cells.find(g + Eigen::Vector3i(dx, dy, dz));
-            if (other >= 0) adj[c].push_back(static_cast<std::uint32_t>(other));
+  const std::size_t n = cells.cell_count();
+  const KeyTable table(cells.keys);
+  const int side = 1 << cells.depth;
+  constexpr std::size_t block = 2048;
+  std::vector<std::vector<std::uint32_t>> blocks((n + block - 1) / block);
+  std::vector<std::uint32_t> counts(n, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& range) {
+    std::vector<std::uint64_t> along[3];  // per axis: the spread bits of each offset's coordinate (or none)
+    std::vector<std::uint32_t> row;
+    for (std::size_t b = range.begin(); b != range.end(); ++b) {
+      auto& out = blocks[b];
+      for (std::size_t c = b * block; c < std::min(n, (b + 1) * block); ++c) {
+        const Eigen::Vector3i g = cells.coordinates(c);
+        for (int a = 0; a < 3; ++a) {
+          along[a].clear();
+          for (int d = -reach; d <= reach; ++d) {
+            const int x = g[a] + d;
+            const bool inside = x >= 0 && x < side;
+            const auto u = static_cast<std::uint32_t>(inside ? x : 0);
+            along[a].push_back(inside ? morton_encode(a == 0 ? u : 0, a == 1 ? u : 0, a == 2 ? u : 0) : kNoKey);
           }
-      std::sort(adj[c].begin(), adj[c].end());
+        }
+        row.clear();
+        const std::size_t width = along[0].size();
+        for (std::size_t k = 0; k < width; ++k)
+          for (std::size_t j = 0; j < width; ++j)
+            for (std::size_t i = 0; i < width; ++i) {
+              const std::uint64_t x = along[0][i], y = along[1][j], z = along[2][k];
+              if (x == kNoKey || y == kNoKey || z == kNoKey) continue;
+              const std::uint64_t key = x | y | z;
+              if (key == cells.keys[c]) continue;
+              const auto other = table.find(key);
+              if (other >= 0) row.push_back(static_cast<std::uint32_t>(other));
+            }
+        std::sort(row.begin(), row.end());
+        counts[c] = static_cast<std::uint32_t>(row.size());
+        out.insert(out.end(), row.begin(), row.end());
+      }
     }
   });
-  return adj;
+  return concatenate(blocks, counts);
 }
 
 Adjacency knn_adjacency(const OctreeCells& cells, int k) {
   if (k < 1) throw OptionError("k for the nearest-neighbour graph must be at least 1, got " + std::to_string(k));
   const MedianIndex index(cells);
-  Adjacency adj(cells.cell_count());
+  std::vector<std::vector<std::uint32_t>> adj(cells.cell_count());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.cell_count(), 512), [&](const auto& range) {
     for (std::size_t c = range.begin(); c != range.end(); ++c) {
       KnnSearch search(*index.tree, index.points[c], static_cast<unsigned>(k + 1), 0, true,
@@ -79,23 +162,26 @@ Adjacency knn_adjacency(const OctreeCells& cells, int k) {
         if (hit.first != c) adj[c].push_back(hit.first);
     }
   });
-  Adjacency sym(cells.cell_count());
+  std::vector<std::vector<std::uint32_t>> sym(cells.cell_count());
   for (std::size_t c = 0; c < adj.size(); ++c)
     for (auto o : adj[c]) {
       sym[c].push_back(o);
       sym[o].push_back(static_cast<std::uint32_t>(c));
     }
-  for (auto& list : sym) {
+  std::vector<std::uint32_t> counts(sym.size());
+  for (std::size_t c = 0; c < sym.size(); ++c) {
+    auto& list = sym[c];
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
+    counts[c] = static_cast<std::uint32_t>(list.size());
   }
-  return sym;
+  return concatenate(sym, counts);
 }
 
 std::vector<std::uint32_t> components_of(const Adjacency& adj) {
   CellSets sets(adj.size());
   for (std::size_t c = 0; c < adj.size(); ++c)
-    for (auto o : adj[c]) sets.unite(static_cast<std::uint32_t>(c), o);
+    for (const std::uint32_t* o = adj.begin(c); o != adj.end(c); ++o) sets.unite(static_cast<std::uint32_t>(c), *o);
   std::vector<std::uint32_t> label(adj.size());
   for (std::size_t c = 0; c < adj.size(); ++c) label[c] = sets.find(static_cast<std::uint32_t>(c));
   return label;
@@ -105,8 +191,9 @@ std::vector<std::uint32_t> components_of(const Adjacency& adj) {
 /// `near` are joined whatever their size; parts of at least `min_points` points also when they are
 /// up to `far` apart (a branch cut off by an occlusion). Each part looks for its nearest foreign cell
 /// from up to `probes` of its cells, spread evenly over it, each looking at its nearest few hundred
-/// cells at most.
-std::size_t bridge_parts(const OctreeCells& cells, Adjacency& adj, double near, double far, std::size_t min_points) {
+/// cells at most. Returns the links, each once, in the order they were chosen.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> bridge_parts(const OctreeCells& cells, const Adjacency& adj, double near,
+                                                                  double far, std::size_t min_points) {
   const std::size_t probes = 64;
   const std::size_t max_visits = 256;  // a probe deep inside its own part gives up; one near its edge does not
   const auto label = components_of(adj);
@@ -117,7 +204,7 @@ std::size_t bridge_parts(const OctreeCells& cells, Adjacency& adj, double near, 
   }
   const auto largest = static_cast<std::uint32_t>(
       std::max_element(part_points.begin(), part_points.end()) - part_points.begin());
-  if (part_cells[largest] == adj.size()) return 0;
+  if (part_cells[largest] == adj.size()) return {};
 
   const MedianIndex index(cells);
   using Link = std::tuple<double, std::uint32_t, std::uint32_t>;
@@ -155,13 +242,9 @@ std::size_t bridge_parts(const OctreeCells& cells, Adjacency& adj, double near, 
     if (std::get<0>(f) >= 0.0) links.push_back(f);
   std::sort(links.begin(), links.end());
   CellSets parts(adj.size());
-  std::size_t added = 0;
-  for (const auto& [d, a, b] : links) {
-    if (!parts.unite(label[a], label[b])) continue;
-    adj[a].push_back(b);
-    adj[b].push_back(a);
-    ++added;
-  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> added;
+  for (const auto& [d, a, b] : links)
+    if (parts.unite(label[a], label[b])) added.emplace_back(a, b);
   return added;
 }
 
@@ -179,18 +262,37 @@ CellGraph build_neighbour_graph(const OctreeCells& cells, const NeighbourGraphOp
   const double bridge = bridge_distance_for(options, cells);
   const double far = options.far_bridge_distance == 0.0 ? 0.1 * cells.cube_size : std::max(options.far_bridge_distance, 0.0);
   const auto min_points = static_cast<std::size_t>(options.far_bridge_fraction * static_cast<double>(cells.point_order.size()));
-  if (bridge > 0.0) graph.bridges = bridge_parts(cells, adj, bridge, std::max(far, bridge), std::max<std::size_t>(min_points, 10));
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> links;
+  if (bridge > 0.0) links = bridge_parts(cells, adj, bridge, std::max(far, bridge), std::max<std::size_t>(min_points, 10));
+  graph.bridges = links.size();
 
-  const double shortest = 1e-9 * cells.cell_size;  // keeps Dijkstra's weights positive
-  graph.offsets.reserve(adj.size() + 1);
-  graph.offsets.push_back(0);
-  for (std::size_t c = 0; c < adj.size(); ++c) {
-    for (auto o : adj[c]) {
-      graph.targets.push_back(o);
-      graph.weights.push_back(std::max((cells.medians[c] - cells.medians[o]).norm(), shortest));
+  const std::size_t n = adj.size();
+  if (links.empty()) {
+    graph.offsets = std::move(adj.offsets);
+    graph.targets = std::move(adj.targets);
+  } else {
+    // Each cell's bridges follow its neighbours, in the order they were chosen.
+    std::vector<std::vector<std::uint32_t>> extra(n);
+    for (const auto& [a, b] : links) {
+      extra[a].push_back(b);
+      extra[b].push_back(a);
     }
-    graph.offsets.push_back(static_cast<std::uint32_t>(graph.targets.size()));
+    graph.offsets.assign(1, 0);
+    graph.offsets.reserve(n + 1);
+    graph.targets.reserve(adj.targets.size() + 2 * links.size());
+    for (std::size_t c = 0; c < n; ++c) {
+      graph.targets.insert(graph.targets.end(), adj.begin(c), adj.end(c));
+      graph.targets.insert(graph.targets.end(), extra[c].begin(), extra[c].end());
+      graph.offsets.push_back(static_cast<std::uint32_t>(graph.targets.size()));
+    }
   }
+  const double shortest = 1e-9 * cells.cell_size;  // keeps Dijkstra's weights positive
+  graph.weights.resize(graph.targets.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t c = range.begin(); c != range.end(); ++c)
+      for (auto e = graph.offsets[c]; e < graph.offsets[c + 1]; ++e)
+        graph.weights[e] = std::max((cells.medians[c] - cells.medians[graph.targets[e]]).norm(), shortest);
+  });
   return graph;
 }
 
