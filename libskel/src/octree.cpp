@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 namespace treeskel {
@@ -71,18 +72,41 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
   std::vector<std::uint32_t> kept;
   Eigen::AlignedBox3d box = bounding_box(cloud);
   if (options.outlier_distance > 0.0 && cloud.size() >= 1000) {
+    // Per axis, the values of ranks 0.1% and 99.9% of the way: the heaviest of the smallest ones and
+    // the lightest of the largest ones, kept in two heaps in one pass (most values pass by both
+    // heaps' tops; six selections over copies of the whole cloud took 0.08 s at 1M points).
     Eigen::AlignedBox3d bulk;
-    std::vector<double> values(cloud.size());
-    for (int a = 0; a < 3; ++a) {
-      for (std::size_t i = 0; i < cloud.size(); ++i) values[i] = cloud.positions[i][a];
-      const auto at = [&](double q) {
-        const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
-        std::nth_element(values.begin(), values.begin() + k, values.end());
-        return values[static_cast<std::size_t>(k)];
-      };
-      bulk.min()[a] = at(0.001);
-      bulk.max()[a] = at(0.999);
-    }
+    const std::size_t n = cloud.size();
+    const auto low = static_cast<std::size_t>(0.001 * static_cast<double>(n - 1));
+    const auto high = static_cast<std::size_t>(0.999 * static_cast<double>(n - 1));
+    tbb::parallel_for(0, 3, [&](int a) {
+      std::vector<double> smallest, largest;  // a max-heap of low + 1 values, a min-heap of n - high
+      smallest.reserve(low + 1);
+      largest.reserve(n - high);
+      const std::less<double> heavier;
+      const std::greater<double> lighter;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double v = cloud.positions[i][a];
+        if (smallest.size() < low + 1) {
+          smallest.push_back(v);
+          std::push_heap(smallest.begin(), smallest.end(), heavier);
+        } else if (v < smallest.front()) {
+          std::pop_heap(smallest.begin(), smallest.end(), heavier);
+          smallest.back() = v;
+          std::push_heap(smallest.begin(), smallest.end(), heavier);
+        }
+        if (largest.size() < n - high) {
+          largest.push_back(v);
+          std::push_heap(largest.begin(), largest.end(), lighter);
+        } else if (v > largest.front()) {
+          std::pop_heap(largest.begin(), largest.end(), lighter);
+          largest.back() = v;
+          std::push_heap(largest.begin(), largest.end(), lighter);
+        }
+      }
+      bulk.min()[a] = smallest.front();
+      bulk.max()[a] = largest.front();
+    });
     const double reach = options.outlier_distance * bulk.sizes().maxCoeff();
     bulk.min().array() -= reach;
     bulk.max().array() += reach;
