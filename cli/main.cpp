@@ -1,5 +1,6 @@
 // treeskel: tree skeletons and models from raw point clouds.
 #include "commands.h"
+#include "huge_pages.h"
 #include "treeskel/error.h"
 
 #include <tbb/global_control.h>
@@ -10,6 +11,7 @@
 #include <thread>
 
 int main(int argc, char** argv) {
+  treeskel::cli::restart_with_huge_pages(argv);
   CLI::App app{"treeskel " TREESKEL_VERSION
                ": curve skeletons of trees from raw point clouds (Fu et al., IEEE Access 2020).\n"
                "Run 'treeskel COMMAND --help' for the options of a command."};
