@@ -42,10 +42,12 @@ std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_
                                    double sliver = 0.0);
 
 /// Unites `pieces` with `base`. Each input must be closed, manifold and free of self-intersections.
-/// Pieces that cross or hold one another are united among themselves first; then all of them go
-/// into one corefinement with `base` (its cost follows the size of `base`, not of the pieces). A
-/// group the union refuses is united alone; if that fails too it is kept beside the mesh as a
-/// component of its own (counted in `failed`), never left out.
+/// Pieces that cross or hold one another are united among themselves first (at most 8 a group); then
+/// all the groups go into one corefinement with `base` (its cost follows the size of `base`, not of
+/// the pieces). The pieces left over (a group was full, or refused them, or `base` refused their
+/// group) follow in layers of pieces whose boxes do not overlap, a corefinement a layer; a layer
+/// the union refuses goes one piece at a time, and a piece refused alone is kept beside the mesh as
+/// a component of its own (counted in `failed`), never left out.
 /// The result's points are rounded to 32-bit floats in the frame `offset` leads to (local + offset),
 /// and its edges shorter than `weld` collapsed (see `weld_short_edges`; within `where` if given).
 /// `pieces_tested`: the caller has tested every piece for self-intersections already (the sweep
