@@ -6,6 +6,7 @@
 // The synthetic skeleton is a random tree (eval::grow_tree) whose segments are refined until it has
 // at least N nodes; its radii are its own cylinders' (the fit treats them as measurements). Prints
 // Markdown tables (best of R runs).
+#include "huge_pages.h"
 #include "treeskel/eval/tree_generator.h"
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
@@ -51,6 +52,7 @@ Skeleton skeleton_of(const eval::GrownTree& tree) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  treeskel::cli::restart_with_huge_pages(argv);  // memory as the command-line tool has it
   std::size_t nodes = 10000;
   int repeat = 3;
   std::vector<std::string> files;
@@ -93,7 +95,7 @@ int main(int argc, char** argv) {
   std::printf("|---:|---:|---:|---:|---:|---|\n");
   std::printf("| %zu | %.3f s | %.3f s | %.3f s | %zu | %s |\n\n", skeleton.node_count(), radii, sweep, sweep_no_repair,
               check.faces, check.ok() && stats.self_intersections == 0 ? "yes" : check.problem().c_str());
-  std::printf("(built %d times: %d repair rounds; %zu branches thinned, %zu left out, %zu twigs inside joins)\n\n",
+  std::printf("(built %d times: %d repair rounds; %zu branches thinned, %zu swept apart and united, %zu twigs inside joins)\n\n",
               stats.attempts, stats.repair_rounds, stats.joins_thinned + stats.repaired_shrunk,
               stats.joins_dropped + stats.repaired_dropped, stats.twigs_absorbed);
 
