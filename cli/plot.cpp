@@ -39,6 +39,7 @@ struct Settings {
   bool ground_filter = false;  // find the ground by the filter even when the file classifies it
   std::size_t min_tree_points = 500;
   std::string stem_slice;  // "LOW,HIGH"
+  std::string labelled = "ply";  // the labelled cloud's format: ply or las
   forest::GroundOptions ground;
   forest::StemOptions stems;
   forest::SegmentOptions segment;
@@ -78,6 +79,8 @@ int run(Settings& s) {
   if (!b.skeleton.empty()) require_skeleton_extension("x." + b.skeleton);
   check_skeleton_settings(b.method);
   if (b.preview) require_chromium_for_preview();
+  if (s.labelled != "ply" && s.labelled != "las")
+    throw OptionError("--labelled " + s.labelled + ": the labelled cloud is written as ply or las");
   const fs::path out_dir(b.out_dir);
   std::error_code ec;
   fs::create_directories(out_dir / "trees", ec);
@@ -128,7 +131,19 @@ int run(Settings& s) {
     labelled.fields[1].values[p] = seg.tree[p] ? kTree : ground.is_ground[p] ? kGround : kNoTree;
     labelled.fields[2].values[p] = ground.height[p];
   }
-  io::write_point_cloud(out_dir / "labelled.ply", cloud, labelled);
+  const std::string labelled_name = "labelled." + s.labelled;
+  if (s.labelled == "las" && cloud.classes.empty()) {
+    // LAS's own classification too, where the file had none: 2 ground, 5 high vegetation (a tree),
+    // 1 unclassified. A classification the input had is kept as it was.
+    PointCloud classified = cloud;
+    classified.classes.resize(cloud.size());
+    for (std::size_t p = 0; p < cloud.size(); ++p)
+      classified.classes[p] = seg.tree[p] ? 5 : ground.is_ground[p] ? 2 : 1;
+    io::write_point_cloud(out_dir / labelled_name, classified, labelled);
+  } else {
+    io::write_point_cloud(out_dir / labelled_name, cloud, labelled);
+  }
+  fs::remove(out_dir / (s.labelled == "las" ? "labelled.ply" : "labelled.las"), ec);  // an earlier run's, in the other format
 
   // One cloud per tree, in the input's frame.
   std::vector<PointCloud> trees(stems.size());
@@ -253,7 +268,7 @@ int run(Settings& s) {
   doc["tree_points"] = in_trees;
   doc["unassigned_points"] = seg.unassigned_points;
   doc["seconds"] = {{"ground", ground_seconds}, {"stems", stem_seconds}, {"trees", segment_seconds}, {"total", clock.seconds()}};
-  doc["outputs"] = {{"labelled", "labelled.ply"}, {"plan", "plan.png"}, {"trees", "trees/"}};
+  doc["outputs"] = {{"labelled", labelled_name}, {"plan", "plan.png"}, {"trees", "trees/"}};
   doc["trees"] = list;
   io::write_atomically(out_dir / "trees.json", [&](std::ostream& out) { out << doc.dump(2) << '\n'; });
 
@@ -284,7 +299,7 @@ Command add_plot(CLI::App& app) {
       "A plot scan to one model per tree: finds the ground (the file's class 2 when a LAS file has one, else a progressive morphological filter) and the stems "
       "(circles in a slice above the ground), gives every other point to the stem nearest along a voxel graph, "
       "and models each tree by the batch runner (a process per tree). The cloud must be z-up and in metres.\n"
-      "Writes OUTDIR/labelled.ply (every point with tree_id, 0 for none; class: 0 no tree, 1 ground, 2 tree; "
+      "Writes OUTDIR/labelled.ply or .las (every point with tree_id, 0 for none; class: 0 no tree, 1 ground, 2 tree; "
       "height above the ground), OUTDIR/trees/tree_NNN.ply (each tree's points) with tree_NNN.glb and "
       "tree_NNN_report.json beside, OUTDIR/trees.csv and trees.json (id, stem position in the input's frame, "
       "ground elevation, points, height, crown base, stem DBH from the slice, model DBH, volume, coverage, "
@@ -294,6 +309,11 @@ Command add_plot(CLI::App& app) {
   c->add_option("-o,--output", s->batch.out_dir, "Folder to write into (made if missing)")->required();
   c->add_option("--model", s->batch.model, "Mesh format of each tree's model: glb (the default), gltf, obj, ply or stl");
   c->add_option("--skeleton", s->batch.skeleton, "Also write each tree's skeleton in this format: json, ply or obj");
+  c->add_option("--labelled", s->labelled,
+                "Format of the labelled cloud: ply (the default) or las (LAS 1.4, tree_id, class and height as extra "
+                "bytes; the file's classification kept, or set to 2 ground, 5 tree, 1 other where the input had none; "
+                "positions, colours and classes only: intensity, returns and times are not carried over)")
+      ->default_val(s->labelled);
   c->add_flag("--segment-only", s->segment_only, "Find the trees and write their clouds, table and picture; no models");
   c->add_flag("--html", s->batch.html, "Also write each tree's page and trees/index.html");
   c->add_flag("--preview", s->batch.preview, "Also render each tree's picture (needs Chromium)");

@@ -27,7 +27,8 @@ Skeleton read_skeleton_ply(std::string_view data, const std::string& name);
 
 void write_xyz(std::ostream& out, const PointCloud& cloud);
 void write_ply(std::ostream& out, const PointCloud& cloud, bool binary, const std::vector<PointField>& fields = {});
-void write_las(std::ostream& out, const PointCloud& cloud);
+/// LAS 1.2 (point format 0, or 2 with colours); LAS 1.4 with an extra bytes VLR when `fields` are given.
+void write_las(std::ostream& out, const PointCloud& cloud, const std::vector<PointField>& fields = {});
 
 /// Appends the shortest decimal text that reads back to exactly `value`.
 void append_number(std::string& out, double value);

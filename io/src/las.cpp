@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <ostream>
+#include <utility>
 
 namespace treeskel::io::detail {
 
@@ -118,10 +119,47 @@ PointCloud read_las(std::string_view data, const std::string& name) {
   return cloud;
 }
 
-void write_las(std::ostream& out, const PointCloud& cloud) {
+namespace {
+
+/// The LAS "extra bytes" data type of a field (LAS 1.4 R15, table 24) and its size.
+std::pair<std::uint8_t, std::size_t> extra_type(PointField::Type t) {
+  switch (t) {
+    case PointField::Type::uint8: return {1, 1};
+    case PointField::Type::uint32: return {5, 4};
+    case PointField::Type::float32: return {9, 4};
+  }
+  return {9, 4};
+}
+
+/// The extra bytes VLR (user "LASF_Spec", record 4): a 54-byte header and a 192-byte descriptor per
+/// field, each naming the field and its type.
+std::string extra_bytes_vlr(const std::vector<PointField>& fields) {
+  std::string v(54 + 192 * fields.size(), '\0');
+  std::memcpy(&v[2], "LASF_Spec", 9);
+  const std::uint16_t id = 4, length = static_cast<std::uint16_t>(192 * fields.size());
+  std::memcpy(&v[18], &id, 2);
+  std::memcpy(&v[20], &length, 2);
+  std::memcpy(&v[22], "Extra bytes", 11);
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    char* d = &v[54 + 192 * i];
+    d[2] = static_cast<char>(extra_type(fields[i].type).first);
+    std::memcpy(d + 4, fields[i].name.data(), std::min<std::size_t>(fields[i].name.size(), 32));
+    const std::string about = "treeskel " + fields[i].name;
+    std::memcpy(d + 160, about.data(), std::min<std::size_t>(about.size(), 32));
+  }
+  return v;
+}
+
+}  // namespace
+
+void write_las(std::ostream& out, const PointCloud& cloud, const std::vector<PointField>& fields) {
+  for (const auto& f : fields)
+    if (f.name.empty() || f.name.size() > 32) throw Error("a LAS extra bytes field needs a name of 1 to 32 characters, not '" + f.name + "'");
   const bool colors = cloud.has_colors();
   const std::uint8_t format = colors ? 2 : 0;
-  const std::uint16_t record = colors ? 26 : 20;
+  std::size_t extra = 0;
+  for (const auto& f : fields) extra += extra_type(f.type).second;
+  const auto record = static_cast<std::uint16_t>((colors ? 26 : 20) + extra);
   Eigen::AlignedBox3d box;
   for (const auto& p : cloud.positions) box.extend(p + cloud.offset);
   if (cloud.empty()) box.extend(Eigen::Vector3d::Zero());
@@ -132,27 +170,38 @@ void write_las(std::ostream& out, const PointCloud& cloud) {
     scale[a] = 1e-4;
     while (extent / scale[a] > 2.0e9) scale[a] *= 10.0;
   }
-  std::string h(227, '\0');
+  // LAS 1.2, or 1.4 (whose header is 375 bytes) when the points carry extra bytes, which that
+  // version describes.
+  const bool v14 = !fields.empty();
+  const std::string vlr = v14 ? extra_bytes_vlr(fields) : std::string();
+  const std::uint16_t header_size = v14 ? 375 : 227;
+  std::string h(header_size, '\0');
   h.replace(0, 4, "LASF");
   h[24] = 1;
-  h[25] = 2;
+  h[25] = v14 ? 4 : 2;
   const char software[] = "treeskel";
   std::memcpy(&h[58], software, sizeof software - 1);
   auto set = [&](std::size_t at, auto v) { std::memcpy(&h[at], &v, sizeof v); };
-  set(94, std::uint16_t{227});
-  set(96, std::uint32_t{227});
-  set(100, std::uint32_t{0});
+  set(94, header_size);
+  set(96, static_cast<std::uint32_t>(header_size + vlr.size()));
+  set(100, static_cast<std::uint32_t>(v14 ? 1 : 0));
   set(104, format);
   set(105, record);
-  set(107, static_cast<std::uint32_t>(cloud.size()));
-  set(111, static_cast<std::uint32_t>(cloud.size()));
+  const bool legacy_count = cloud.size() <= 0xffffffffu;
+  set(107, static_cast<std::uint32_t>(legacy_count ? cloud.size() : 0));
+  set(111, static_cast<std::uint32_t>(legacy_count ? cloud.size() : 0));
   for (int a = 0; a < 3; ++a) {
     set(131 + 8 * a, scale[a]);
     set(155 + 8 * a, offset[a]);
     set(179 + 16 * a, box.max()[a]);
     set(187 + 16 * a, box.min()[a]);
   }
+  if (v14) {
+    set(247, static_cast<std::uint64_t>(cloud.size()));  // points
+    set(255, static_cast<std::uint64_t>(cloud.size()));  // of which first returns
+  }
   out.write(h.data(), static_cast<std::streamsize>(h.size()));
+  out.write(vlr.data(), static_cast<std::streamsize>(vlr.size()));
   std::string buffer;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3d p = cloud.positions[i] + cloud.offset;
@@ -165,6 +214,14 @@ void write_las(std::ostream& out, const PointCloud& cloud) {
     put(buffer, std::uint16_t{0});    // point source
     if (colors)
       for (int a = 0; a < 3; ++a) put(buffer, static_cast<std::uint16_t>(cloud.colors[i][a] * 257));
+    for (const auto& f : fields) {
+      const double x = f.values[i];
+      switch (f.type) {
+        case PointField::Type::uint8: put(buffer, static_cast<std::uint8_t>(x)); break;
+        case PointField::Type::uint32: put(buffer, static_cast<std::uint32_t>(x)); break;
+        case PointField::Type::float32: put(buffer, static_cast<float>(x)); break;
+      }
+    }
     if (buffer.size() > (1u << 20)) {
       out.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
       buffer.clear();

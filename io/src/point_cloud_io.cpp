@@ -53,13 +53,13 @@ void write_point_cloud(const std::filesystem::path& path, const PointCloud& clou
   const std::string ext = extension_of(path);
   if (ext != "ply" && ext != "las" && !is_text(ext))
     throw Error(path.string() + ": unknown point cloud extension '." + ext + "'; treeskel writes " + known_list());
-  if (!options.fields.empty() && ext != "ply")
-    throw Error(path.string() + ": per-point fields (" + options.fields.front().name + ") are written to PLY only");
+  if (!options.fields.empty() && ext != "ply" && ext != "las")
+    throw Error(path.string() + ": per-point fields (" + options.fields.front().name + ") are written to PLY and LAS only");
   for (const auto& f : options.fields)
     TREESKEL_REQUIRE(f.values.size() == cloud.size(), "a field value per point");
   write_atomically(path, [&](std::ostream& out) {
     if (ext == "ply") detail::write_ply(out, cloud, options.ply_binary, options.fields);
-    else if (ext == "las") detail::write_las(out, cloud);
+    else if (ext == "las") detail::write_las(out, cloud, options.fields);
     else detail::write_xyz(out, cloud);
   });
 }

@@ -12,7 +12,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cstring>
 #include <random>
+#include <set>
 
 namespace treeskel {
 namespace {
@@ -124,7 +126,9 @@ TEST(Plot, ASyntheticPlotSegmentedOnly) {
     true_ground += classified.classes[p] == 2;
   }
   io::write_point_cloud(dir.path("plot.las"), classified);
-  const Result las = run("plot " + quoted(dir.path("plot.las")) + " -o " + quoted(dir.path("las")) + " --segment-only");
+  fs::create_directories(dir.path("las"));
+  std::ofstream(dir.path("las/labelled.ply")) << "from an earlier run\n";
+  const Result las = run("plot " + quoted(dir.path("plot.las")) + " -o " + quoted(dir.path("las")) + " --segment-only --labelled las");
   ASSERT_EQ(las.code, 0) << las.out;
   EXPECT_NE(las.out.find("the file's classification"), std::string::npos) << las.out;
   const auto from_las = read_json(dir.path("las/trees.json"));
@@ -132,6 +136,29 @@ TEST(Plot, ASyntheticPlotSegmentedOnly) {
   // Ground points are the classified ones, less the stems' bases.
   EXPECT_LE(from_las["ground_points"].get<std::size_t>(), true_ground);
   EXPECT_GT(from_las["ground_points"].get<std::size_t>(), true_ground * 99 / 100);
+
+  // The labelled cloud as LAS: the input's classes kept, tree_id as extra bytes after each point's
+  // 20 bytes (format 0), as many points in trees as the table says; the earlier PLY is gone.
+  EXPECT_EQ(from_las["outputs"]["labelled"], "labelled.las");
+  EXPECT_FALSE(fs::exists(dir.path("las/labelled.ply")));
+  const PointCloud labelled = io::read_point_cloud(dir.path("las/labelled.las"));
+  EXPECT_EQ(labelled.classes, classified.classes);
+  const std::string f = read_text(dir.path("las/labelled.las"));
+  std::uint32_t first = 0, id = 0;
+  std::uint16_t record = 0;
+  std::memcpy(&first, f.data() + 96, 4);
+  std::memcpy(&record, f.data() + 105, 2);
+  ASSERT_EQ(record, 20 + 9);
+  ASSERT_EQ(f.size(), first + classified.size() * record);
+  std::size_t in_trees = 0;
+  std::set<std::uint32_t> ids;
+  for (std::size_t p = 0; p < classified.size(); ++p) {
+    std::memcpy(&id, f.data() + first + p * record + 20, 4);
+    in_trees += id != 0;
+    if (id) ids.insert(id);
+  }
+  EXPECT_EQ(in_trees, from_las["tree_points"].get<std::size_t>());
+  EXPECT_EQ(ids, (std::set<std::uint32_t>{1, 2, 3}));
 }
 
 TEST(Plot, NoStemAndBadOptionsFailClearly) {
@@ -148,6 +175,9 @@ TEST(Plot, NoStemAndBadOptionsFailClearly) {
   const Result bad = run("plot " + quoted(dir.path("blob.xyz")) + " -o " + quoted(dir.path("out")) + " --stem-slice 2,1");
   EXPECT_EQ(bad.code, 2) << bad.out;
   EXPECT_NE(bad.out.find("--stem-slice 2,1"), std::string::npos) << bad.out;
+  const Result format = run("plot " + quoted(dir.path("blob.xyz")) + " -o " + quoted(dir.path("out")) + " --labelled xyz");
+  EXPECT_EQ(format.code, 2) << format.out;
+  EXPECT_NE(format.out.find("--labelled xyz"), std::string::npos) << format.out;
   const Result missing = run("plot " + quoted(dir.path("nothing.xyz")) + " -o " + quoted(dir.path("out2")));
   EXPECT_EQ(missing.code, 1) << missing.out;
   EXPECT_NE(missing.out.find("nothing.xyz"), std::string::npos) << missing.out;

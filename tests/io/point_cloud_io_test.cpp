@@ -240,6 +240,66 @@ std::string las14(std::uint64_t declared, std::uint64_t present) {
   return h;
 }
 
+TEST(WriteLas, FieldsAsTheExtraBytesOfALas14File) {
+  const TempDir dir;
+  PointCloud c = random_cloud(true, false, true);
+  c.classes.assign(c.size(), 5);
+  io::CloudWriteOptions options;
+  options.fields = {{"tree_id", io::PointField::Type::uint32, {}},
+                    {"class", io::PointField::Type::uint8, {}},
+                    {"height", io::PointField::Type::float32, {}}};
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    options.fields[0].values.push_back(static_cast<double>(i * 1000003 % 4000000000u));
+    options.fields[1].values.push_back(static_cast<double>(i % 3));
+    options.fields[2].values.push_back(0.25 * static_cast<double>(i));
+  }
+  const std::string path = dir.path("labelled.las");
+  io::write_point_cloud(path, c, options);
+  // The reader passes over the extra bytes: positions, colours and classes read back.
+  const PointCloud back = io::read_point_cloud(path);
+  expect_same_world(c, back, 1e-4);
+  EXPECT_EQ(back.classes, c.classes);
+  const std::string f = read_text(path);
+  auto u16 = [&](std::size_t at) { std::uint16_t v; std::memcpy(&v, f.data() + at, 2); return v; };
+  auto u32 = [&](std::size_t at) { std::uint32_t v; std::memcpy(&v, f.data() + at, 4); return v; };
+  auto u64 = [&](std::size_t at) { std::uint64_t v; std::memcpy(&v, f.data() + at, 8); return v; };
+  // LAS 1.4: a 375-byte header, one VLR, point format 2 (colours) with 9 extra bytes a point.
+  EXPECT_EQ(f[24], 1);
+  EXPECT_EQ(f[25], 4);
+  EXPECT_EQ(u16(94), 375);
+  EXPECT_EQ(u32(100), 1u);
+  EXPECT_EQ(f[104], 2);
+  EXPECT_EQ(u16(105), 26 + 9);
+  EXPECT_EQ(u32(107), c.size());
+  EXPECT_EQ(u64(247), c.size());
+  const std::size_t points = u32(96);
+  EXPECT_EQ(points, 375u + 54u + 3u * 192u);
+  EXPECT_EQ(f.size(), points + c.size() * (26 + 9));
+  // The VLR: user LASF_Spec, record 4, a 192-byte descriptor per field (type at 2, name at 4).
+  EXPECT_EQ(f.substr(375 + 2, 10), std::string("LASF_Spec\0", 10));
+  EXPECT_EQ(u16(375 + 18), 4);
+  EXPECT_EQ(u16(375 + 20), 3 * 192);
+  const std::pair<const char*, int> expected[] = {{"tree_id", 5}, {"class", 1}, {"height", 9}};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const std::size_t d = 375 + 54 + 192 * k;
+    EXPECT_EQ(static_cast<int>(f[d + 2]), expected[k].second);
+    EXPECT_EQ(std::string(f.c_str() + d + 4), expected[k].first);
+  }
+  // Each point's extra bytes follow its 26 bytes, in the fields' order.
+  for (std::size_t i : {std::size_t{0}, c.size() / 2, c.size() - 1}) {
+    const std::size_t at = points + i * (26 + 9) + 26;
+    EXPECT_EQ(u32(at), static_cast<std::uint32_t>(options.fields[0].values[i]));
+    EXPECT_EQ(static_cast<int>(static_cast<unsigned char>(f[at + 4])), static_cast<int>(options.fields[1].values[i]));
+    float height;
+    std::memcpy(&height, f.data() + at + 5, 4);
+    EXPECT_EQ(height, static_cast<float>(options.fields[2].values[i]));
+  }
+  // A text format still refuses fields, and a LAS field needs a name that fits.
+  EXPECT_THROW(io::write_point_cloud(dir.path("labelled.xyz"), c, options), Error);
+  options.fields[0].name = std::string(33, 'x');
+  EXPECT_THROW(io::write_point_cloud(dir.path("long.las"), c, options), Error);
+}
+
 TEST(ReadLas, Version14PointFormat6) {
   const TempDir dir;
   const std::string path = dir.path("v14.las");

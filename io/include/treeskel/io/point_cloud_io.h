@@ -21,7 +21,8 @@ namespace treeskel::io {
 /// Reads a cloud. @throws InputError with the file name and, where it applies, the line or byte.
 PointCloud read_point_cloud(const std::filesystem::path& path);
 
-/// A value per point beside the position (a label, a height), written as a PLY property.
+/// A value per point beside the position (a label, a height), written as a PLY property or as LAS
+/// "extra bytes" (a LAS 1.4 file whose extra bytes VLR names each field and its type).
 struct PointField {
   enum class Type { uint8, uint32, float32 };
   std::string name;
@@ -31,7 +32,7 @@ struct PointField {
 
 struct CloudWriteOptions {
   bool ply_binary = true;  ///< binary little-endian PLY (else ascii)
-  /// Properties after the position, normals and colours; PLY only (another format refuses them).
+  /// Properties after the position, normals and colours; PLY and LAS only (another format refuses them).
   std::vector<PointField> fields;
 };
 
