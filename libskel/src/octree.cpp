@@ -122,23 +122,20 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
       }
     }
   }
-  if (kept.empty()) {
-    kept.resize(cloud.size());
-    for (std::size_t i = 0; i < cloud.size(); ++i) kept[i] = static_cast<std::uint32_t>(i);
-  }
+  const bool all = kept.empty();  // no outlier: every point, by its own index
   cells.origin = box.min();
   cells.cube_size = std::max(box.sizes().maxCoeff(), 1e-300);
 
   // Morton keys at the finest depth, sorted once: the cells of any coarser depth are runs of keys that
   // share a prefix, so every depth can be counted from this one sort.
   constexpr int finest = 21;
-  const std::size_t n = kept.size();
+  const std::size_t n = all ? cloud.size() : kept.size();
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
   const double resolution = static_cast<double>(1u << finest);
   const double inv = resolution / cells.cube_size;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
     for (std::size_t j = range.begin(); j != range.end(); ++j) {
-      const std::uint32_t i = kept[j];
+      const std::uint32_t i = all ? static_cast<std::uint32_t>(j) : kept[j];
       const Eigen::Vector3d g = (cloud.positions[i] - cells.origin) * inv;
       std::uint32_t c[3];
       for (int a = 0; a < 3; ++a) c[a] = static_cast<std::uint32_t>(std::clamp(std::floor(g[a]), 0.0, resolution - 1.0));
@@ -147,12 +144,26 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
   });
   tbb::parallel_sort(keyed.begin(), keyed.end());  // keys with indices are unique: deterministic
 
+  // For each point, the shallowest depth at which it lies in another cell than the point before it:
+  // 21 - (its highest bit that differs) / 3, and 22 for a repeat (the same finest key), which no
+  // depth tells apart. A cell at depth d starts at every point whose split is at most d.
+  constexpr std::uint8_t kRepeat = finest + 1;
+  std::vector<std::uint8_t> split(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      if (i == 0) {
+        split[i] = 0;
+        continue;
+      }
+      const std::uint64_t differ = keyed[i].first ^ keyed[i - 1].first;
+      split[i] = differ == 0 ? kRepeat : static_cast<std::uint8_t>(finest - (63 - __builtin_clzll(differ)) / 3);
+    }
+  });
   if (options.depth > 0) {
     cells.depth = options.depth;
   } else {
     // Repeated points (the same finest key) count once: duplicating a cloud changes nothing.
-    std::size_t distinct = 0;
-    for (std::size_t i = 0; i < n; ++i) distinct += i == 0 || keyed[i].first != keyed[i - 1].first;
+    const std::size_t distinct = static_cast<std::size_t>(std::count_if(split.begin(), split.end(), [](std::uint8_t v) { return v != kRepeat; }));
     const int paper = paper_octree_depth(distinct);
     cells.depth = paper;
     if (options.points_per_cell > 0.0) {
@@ -162,12 +173,11 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
       cells.depth = 1;
       std::vector<std::size_t> counts;
       for (int d = 1; d <= deepest; ++d) {
-        const int shift = 3 * (finest - d);
         counts.clear();
         std::size_t run = 0;
         for (std::size_t i = 0; i < n; ++i) {
-          if (i > 0 && keyed[i].first == keyed[i - 1].first) continue;  // a repeated point
-          if (i > 0 && (keyed[i].first >> shift) != (keyed[i - 1].first >> shift)) {
+          if (split[i] == kRepeat) continue;  // a repeated point
+          if (i > 0 && split[i] <= d) {
             counts.push_back(run);
             run = 0;
           }
@@ -191,14 +201,14 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
   const int shift = 3 * (finest - cells.depth);
 
   cells.point_order.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    cells.point_order[i] = keyed[i].second;
-    const std::uint64_t key = keyed[i].first >> shift;
-    if (i == 0 || key != (keyed[i - 1].first >> shift)) {
-      cells.keys.push_back(key);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) cells.point_order[i] = keyed[i].second;
+  });
+  for (std::size_t i = 0; i < n; ++i)
+    if (i == 0 || split[i] <= cells.depth) {
+      cells.keys.push_back(keyed[i].first >> shift);
       cells.first.push_back(static_cast<std::uint32_t>(i));
     }
-  }
   cells.first.push_back(static_cast<std::uint32_t>(n));
 
   cells.medians.resize(cells.cell_count());
