@@ -95,18 +95,24 @@ std::string read_text(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+/// A tree id, a class and a height for each of `n` points, as the plot's labelled cloud has them.
+std::vector<io::PointField> labelled_fields(std::size_t n) {
+  std::vector<io::PointField> fields = {{"tree_id", io::PointField::Type::uint32, {}},
+                                        {"class", io::PointField::Type::uint8, {}},
+                                        {"height", io::PointField::Type::float32, {}}};
+  for (std::size_t i = 0; i < n; ++i) {
+    fields[0].values.push_back(static_cast<double>(i * 1000003 % 4000000000u));
+    fields[1].values.push_back(static_cast<double>(i % 3));
+    fields[2].values.push_back(0.25 * static_cast<double>(i));
+  }
+  return fields;
+}
+
 TEST(WritePly, FieldsPerPointAfterThePositionInBothEncodings) {
   const TempDir dir;
   const PointCloud c = random_cloud(true, true, true);
   io::CloudWriteOptions options;
-  options.fields = {{"tree_id", io::PointField::Type::uint32, {}},
-                    {"class", io::PointField::Type::uint8, {}},
-                    {"height", io::PointField::Type::float32, {}}};
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    options.fields[0].values.push_back(static_cast<double>(i * 1000003 % 4000000000u));
-    options.fields[1].values.push_back(static_cast<double>(i % 3));
-    options.fields[2].values.push_back(0.25 * static_cast<double>(i));
-  }
+  options.fields = labelled_fields(c.size());
   for (bool binary : {true, false}) {
     options.ply_binary = binary;
     const std::string path = dir.path(binary ? "b.ply" : "a.ply");
@@ -245,14 +251,7 @@ TEST(WriteLas, FieldsAsTheExtraBytesOfALas14File) {
   PointCloud c = random_cloud(true, false, true);
   c.classes.assign(c.size(), 5);
   io::CloudWriteOptions options;
-  options.fields = {{"tree_id", io::PointField::Type::uint32, {}},
-                    {"class", io::PointField::Type::uint8, {}},
-                    {"height", io::PointField::Type::float32, {}}};
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    options.fields[0].values.push_back(static_cast<double>(i * 1000003 % 4000000000u));
-    options.fields[1].values.push_back(static_cast<double>(i % 3));
-    options.fields[2].values.push_back(0.25 * static_cast<double>(i));
-  }
+  options.fields = labelled_fields(c.size());
   const std::string path = dir.path("labelled.las");
   io::write_point_cloud(path, c, options);
   // The reader passes over the extra bytes: positions, colours and classes read back.
