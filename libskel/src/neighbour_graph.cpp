@@ -47,7 +47,7 @@ struct MedianIndex {
 
 using CellSets = DisjointSets<std::uint32_t>;
 
-constexpr std::uint64_t kNoKey = ~std::uint64_t{0};
+constexpr std::uint64_t kNoKey = ~std::uint64_t{0};  // no Morton key has the top bit
 
 /// Neighbour lists in compressed rows: cell c's are `targets[offsets[c] .. offsets[c+1])`.
 struct Adjacency {
@@ -67,10 +67,10 @@ public:
     while ((std::size_t{1} << bits) < 2 * keys.size()) ++bits;
     shift_ = 64 - bits;
     mask_ = (std::size_t{1} << bits) - 1;
-    slots_.assign(mask_ + 1, Slot{kEmpty, 0});
+    slots_.assign(mask_ + 1, Slot{kNoKey, 0});
     for (std::size_t i = 0; i < keys.size(); ++i) {
       std::size_t s = slot(keys[i]);
-      while (slots_[s].key != kEmpty) s = (s + 1) & mask_;
+      while (slots_[s].key != kNoKey) s = (s + 1) & mask_;
       slots_[s] = Slot{keys[i], static_cast<std::uint32_t>(i)};
     }
   }
@@ -78,12 +78,11 @@ public:
   std::int64_t find(std::uint64_t key) const {
     for (std::size_t s = slot(key);; s = (s + 1) & mask_) {
       if (slots_[s].key == key) return slots_[s].cell;
-      if (slots_[s].key == kEmpty) return -1;
+      if (slots_[s].key == kNoKey) return -1;
     }
   }
 
 private:
-  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};  // no Morton key has the top bit
   struct Slot {
     std::uint64_t key;
     std::uint32_t cell;
@@ -94,8 +93,8 @@ private:
   int shift_ = 60;
 };
 
-/// Concatenates rows made block by block: `blocks[b]` holds the rows of cells [b * block, ...) and
-/// `counts` the length of each row.
+/// Compressed rows from `blocks`, runs of consecutive rows in cell order, and `counts`, the length
+/// of each row.
 Adjacency concatenate(const std::vector<std::vector<std::uint32_t>>& blocks, const std::vector<std::uint32_t>& counts) {
   Adjacency adj;
   adj.offsets.resize(counts.size() + 1);
