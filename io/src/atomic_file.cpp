@@ -37,6 +37,17 @@ bool synced(const fs::path& file) {
   return ::close(fd) == 0 && ok;
 }
 
+/// Whether process `pid` is gone: it does not exist, or it is a zombie (killed or ended, and not yet
+/// reaped by its parent or by init, which can take a second; it will never write again).
+bool process_gone(pid_t pid) {
+  if (::kill(pid, 0) != 0) return errno == ESRCH;
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  std::getline(stat, text);
+  const std::size_t close = text.rfind(')');  // the name, in parentheses, may hold spaces
+  return close != std::string::npos && close + 2 < text.size() && (text[close + 2] == 'Z' || text[close + 2] == 'X');
+}
+
 /// Why the last system call failed, or a generic reason when it did not say.
 std::string reason() { return errno != 0 ? std::string(std::strerror(errno)) : std::string("the disk refused the data"); }
 
@@ -76,7 +87,7 @@ std::size_t remove_stale_temporaries(const fs::path& dir) {
     const std::size_t dash = rest.find('-');
     if (dash == 0 || dash == std::string::npos || !std::all_of(rest.begin(), rest.begin() + dash, ::isdigit)) continue;
     const long pid = std::strtol(rest.substr(0, dash).c_str(), nullptr, 10);
-    if (pid <= 0 || pid == ::getpid() || ::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    if (pid <= 0 || pid == ::getpid() || !process_gone(static_cast<pid_t>(pid))) continue;
     std::error_code gone;
     if (fs::remove_all(it->path(), gone) > 0 && !gone) ++removed;
   }

@@ -27,7 +27,8 @@ std::string read_whole_file(const std::filesystem::path& path);
 std::string temporary_prefix();
 
 /// Removes the temporary files and folders in `dir` that runs on this machine left when they were
-/// killed (SIGKILL, power loss): those whose process no longer exists. Others' are not touched.
+/// killed (SIGKILL, power loss): those whose process no longer exists or is a zombie (dead, not yet
+/// reaped). Others' are not touched.
 /// Returns how many were removed.
 std::size_t remove_stale_temporaries(const std::filesystem::path& dir);
 
