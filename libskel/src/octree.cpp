@@ -79,30 +79,25 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
     const std::size_t n = cloud.size();
     const auto low = static_cast<std::size_t>(0.001 * static_cast<double>(n - 1));
     const auto high = static_cast<std::size_t>(0.999 * static_cast<double>(n - 1));
+    // Keeps in `heap` the `size` values that come first by `before`; its top is the last of them.
+    const auto keep = [](std::vector<double>& heap, std::size_t size, double v, auto before) {
+      if (heap.size() < size) {
+        heap.push_back(v);
+        std::push_heap(heap.begin(), heap.end(), before);
+      } else if (before(v, heap.front())) {
+        std::pop_heap(heap.begin(), heap.end(), before);
+        heap.back() = v;
+        std::push_heap(heap.begin(), heap.end(), before);
+      }
+    };
     tbb::parallel_for(0, 3, [&](int a) {
       std::vector<double> smallest, largest;  // a max-heap of low + 1 values, a min-heap of n - high
       smallest.reserve(low + 1);
       largest.reserve(n - high);
-      const std::less<double> heavier;
-      const std::greater<double> lighter;
       for (std::size_t i = 0; i < n; ++i) {
         const double v = cloud.positions[i][a];
-        if (smallest.size() < low + 1) {
-          smallest.push_back(v);
-          std::push_heap(smallest.begin(), smallest.end(), heavier);
-        } else if (v < smallest.front()) {
-          std::pop_heap(smallest.begin(), smallest.end(), heavier);
-          smallest.back() = v;
-          std::push_heap(smallest.begin(), smallest.end(), heavier);
-        }
-        if (largest.size() < n - high) {
-          largest.push_back(v);
-          std::push_heap(largest.begin(), largest.end(), lighter);
-        } else if (v > largest.front()) {
-          std::pop_heap(largest.begin(), largest.end(), lighter);
-          largest.back() = v;
-          std::push_heap(largest.begin(), largest.end(), lighter);
-        }
+        keep(smallest, low + 1, v, std::less<double>());
+        keep(largest, n - high, v, std::greater<double>());
       }
       bulk.min()[a] = smallest.front();
       bulk.max()[a] = largest.front();
