@@ -132,17 +132,16 @@ int run(Settings& s) {
     labelled.fields[2].values[p] = ground.height[p];
   }
   const std::string labelled_name = "labelled." + s.labelled;
+  PointCloud classified;
   if (s.labelled == "las" && cloud.classes.empty()) {
     // LAS's own classification too, where the file had none: 2 ground, 5 high vegetation (a tree),
     // 1 unclassified. A classification the input had is kept as it was.
-    PointCloud classified = cloud;
+    classified = cloud;
     classified.classes.resize(cloud.size());
     for (std::size_t p = 0; p < cloud.size(); ++p)
       classified.classes[p] = seg.tree[p] ? 5 : ground.is_ground[p] ? 2 : 1;
-    io::write_point_cloud(out_dir / labelled_name, classified, labelled);
-  } else {
-    io::write_point_cloud(out_dir / labelled_name, cloud, labelled);
   }
+  io::write_point_cloud(out_dir / labelled_name, classified.empty() ? cloud : classified, labelled);
   fs::remove(out_dir / (s.labelled == "las" ? "labelled.ply" : "labelled.las"), ec);  // an earlier run's, in the other format
 
   // One cloud per tree, in the input's frame.
