@@ -1,6 +1,7 @@
 #include "treeskel/eval/cylinders.h"
 
 #include "treeskel/error.h"
+#include "treeskel/geometry.h"
 
 #include <Eigen/Geometry>
 #include <tbb/blocked_range.h>
@@ -8,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace treeskel::eval {
@@ -56,10 +58,38 @@ PointCloud sample_cylinders(const std::vector<Cylinder>& cylinders, const Surfac
     cumulative[i] = total;
     boxes[i] = box_of(c);
   }
+  // A scanner's reference distance: the nearest box (see SurfaceSampling::viewpoint).
+  double d_near = 0.0;
+  if (sampling.viewpoint) {
+    d_near = std::numeric_limits<double>::infinity();
+    for (const auto& b : boxes) d_near = std::min(d_near, b.exteriorDistance(*sampling.viewpoint));
+    if (!(d_near > 0.0)) throw OptionError("sample_cylinders: the viewpoint lies inside the tree's boxes");
+  }
   std::vector<std::vector<std::uint32_t>> near(k);
   for (std::size_t i = 0; i < k; ++i)
     for (std::size_t j = 0; j < k; ++j)
       if (i != j && boxes[i].intersects(boxes[j])) near[i].push_back(static_cast<std::uint32_t>(j));
+
+  // Whether the scanner at `eye` records the surface point `p` (normal `n`, on cylinder `own`) given a
+  // uniform draw `u`: facing, kept with the scanner's density, and no other cylinder on the line of sight.
+  const auto seen_from = [&](const Eigen::Vector3d& eye, const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                             std::size_t own, double u) {
+    const Eigen::Vector3d to_eye = eye - p;
+    const double d = to_eye.norm();
+    const double cosine = n.dot(to_eye) / d;
+    if (cosine <= 0.0 || u >= cosine * (d_near / d) * (d_near / d)) return false;
+    const Eigen::Vector3d inverse = to_eye.cwiseInverse();
+    for (std::size_t j = 0; j < k; ++j) {
+      if (j == own) continue;
+      // Slab test of the sight line against the box first; then the line's distance to the axis.
+      const Eigen::Vector3d t0 = (boxes[j].min() - p).cwiseProduct(inverse), t1 = (boxes[j].max() - p).cwiseProduct(inverse);
+      const double enter = t0.cwiseMin(t1).maxCoeff(), leave = t0.cwiseMax(t1).minCoeff();
+      if (enter > leave || leave < 0.0 || enter > 1.0) continue;
+      const auto& c = cylinders[j];
+      if (segment_segment_distance(p, eye, c.a, c.b) < std::max(c.radius_a, c.radius_b)) return false;
+    }
+    return true;
+  };
 
   // Points are drawn in fixed-size chunks, each from its own seeded generator, so the result does not
   // depend on the thread count. Rejected points are replaced by drawing more chunks.
@@ -100,6 +130,7 @@ PointCloud sample_cylinders(const std::vector<Cylinder>& cylinders, const Surfac
               hidden = true;
               break;
             }
+          if (!hidden && sampling.viewpoint && !seen_from(*sampling.viewpoint, on_surface, normal, i, unit(rng))) hidden = true;
           if (!hidden) drawn[q].push_back(p);
         }
       }
@@ -113,7 +144,7 @@ PointCloud sample_cylinders(const std::vector<Cylinder>& cylinders, const Surfac
         accepted.push_back(p);
       }
     }
-    if (got == 0) throw Error("sample_cylinders: every sampled point falls inside another cylinder");
+    if (got == 0) throw Error("sample_cylinders: no sampled point is on the visible surface");
   }
   cloud.positions = std::move(accepted);
   return cloud;

@@ -32,7 +32,7 @@ struct Branch {
 
 class TreeGrower {
 public:
-  TreeGrower(const PaperTreeSpec& spec, std::uint64_t seed) : spec_(spec), rng_(seed * 1000003ULL + spec.index) {}
+  TreeGrower(const TreeShape& shape, std::uint64_t seed) : shape_(shape), rng_(seed) {}
 
   std::vector<Branch> grow() {
     Branch trunk;
@@ -43,9 +43,11 @@ public:
     branches_.push_back(trunk);
 
     // Extra children beyond a binary fork, spread over the forks (at most 2 extra, 4 children, each).
-    const int forks = spec_.branch_points;
-    int extra = spec_.endpoints - 2 - forks;
-    if (extra < 0 || extra > 2 * forks) throw Error("paper tree " + std::to_string(spec_.index) + ": impossible counts");
+    const int forks = shape_.branch_points;
+    int extra = shape_.endpoints - 2 - forks;
+    if (forks < 1 || extra < 0 || extra > 2 * forks)
+      throw OptionError("a tree with " + std::to_string(forks) + " branch points cannot have " +
+                        std::to_string(shape_.endpoints) + " endpoints (2 + branch points to 2 + 3 x branch points)");
     std::vector<int> extra_at(forks, 0);
     while (extra > 0) {
       const int f = uniform_int(0, forks - 1);
@@ -107,22 +109,24 @@ private:
       child.start = parent.end;
       Eigen::Vector3d best_dir = d;
       double best_length = 0.0, best_clear = -1.0;
-      for (int attempt = 0; attempt < 40; ++attempt) {
+      for (int attempt = 0; attempt < shape_.attempts; ++attempt) {
         const bool leader = j == 0;
-        const double angle = (leader ? uniform(4.0, 16.0) : uniform(28.0, 52.0)) * M_PI / 180.0;
+        const auto& angles = leader ? shape_.leader_angle : shape_.side_angle;
+        const double angle = uniform(angles[0], angles[1]) * M_PI / 180.0;
         const double azimuth =
             leader ? uniform(0.0, 2 * M_PI) : azimuth0 + 2 * M_PI * (j - 1) / std::max(1, k - 1) + uniform(-0.4, 0.4);
         const Eigen::Vector3d tilt_axis = Eigen::AngleAxisd(azimuth, d) * d.unitOrthogonal();
         Eigen::Vector3d dir = Eigen::AngleAxisd(angle, tilt_axis) * d;
-        if (!leader) dir = (dir + 0.2 * Eigen::Vector3d::UnitZ()).normalized();  // branches turn upward
-        const double length = parent.length * (leader ? uniform(0.78, 0.9) : uniform(0.62, 0.78));
+        if (!leader) dir = (dir + shape_.lift * Eigen::Vector3d::UnitZ()).normalized();  // branches turn upward
+        const auto& ratio = leader ? shape_.leader_length : shape_.side_length;
+        const double length = parent.length * uniform(ratio[0], ratio[1]);
         const double clear = clearance(child.start, child.start + dir * length, b);
         if (clear > best_clear) {
           best_clear = clear;
           best_dir = dir;
           best_length = length;
         }
-        if (clear > 0.45 * length) break;
+        if (clear > shape_.clearance * length) break;
       }
       child.length = best_length;
       child.end = child.start + best_dir * best_length;
@@ -149,7 +153,7 @@ private:
     }
   }
 
-  const PaperTreeSpec& spec_;
+  const TreeShape& shape_;
   std::mt19937_64 rng_;
   std::vector<Branch> branches_;
 };
@@ -179,7 +183,14 @@ std::string degradation_name(Degradation d) {
 GroundTruth make_paper_tree(int index, std::uint64_t seed) {
   if (index < 1 || index > 6) throw OptionError("paper trees are numbered 1 to 6, got " + std::to_string(index));
   const PaperTreeSpec& spec = paper_tree_specs()[index - 1];
-  std::vector<Branch> branches = TreeGrower(spec, seed).grow();
+  TreeShape shape;
+  shape.branch_points = spec.branch_points;
+  shape.endpoints = spec.endpoints;
+  return grow_truth(shape, seed * 1000003ULL + static_cast<std::uint64_t>(spec.index));
+}
+
+GroundTruth grow_truth(const TreeShape& shape, std::uint64_t seed) {
+  std::vector<Branch> branches = TreeGrower(shape, seed).grow();
 
   // Normalise: radii so that the trunk has the chosen share of the size, then positions and radii so
   // that the longest side of the box around the wood is 1, its minimum corner at the origin.

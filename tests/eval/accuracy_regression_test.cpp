@@ -1,6 +1,7 @@
 // A quality regression guard: a few of the benchmark's clouds (seed 1), skeletonized with the default
 // options, must keep scoring about what they scored when the thresholds were set (measured values
 // less a margin; the full benchmark is bench/accuracy.cpp). It catches a stage that breaks.
+#include "treeskel/eval/hard_trees.h"
 #include "treeskel/eval/metrics.h"
 #include "treeskel/eval/paper_trees.h"
 #include "treeskel/pipeline.h"
@@ -45,6 +46,40 @@ INSTANTIATE_TEST_SUITE_P(Benchmark, AccuracyRegression,
                                            Expectation{"tree1_noise_2", 0.005, 0.9, 0.9, 0.7, 0.65},
                                            Expectation{"tree4_missing_1", 0.007, 0.85, 0.85, 0.8, 0.85},
                                            Expectation{"tree3_vdensity_1", 0.004, 0.9, 0.9, 0.85, 0.85}),
+                         [](const auto& info) { return std::string(info.param.cloud); });
+
+// The harder sets of eval/hard_trees.h (seed 1): today's scores less a margin, so that work on crowded
+// crowns and sparse scans (issue: they are far below the paper set) can only raise them. Measured when
+// set: crowded6_44003 SPD 0.003, BPC 0.845, EPC 0.730, precisions 0.875 / 1.0; sparse60_2views_4113
+// 0.004, 0.917, 0.927, 0.743, 0.894; tree4_all 0.009, 0.877, 0.851, 0.814, 0.860.
+class HardAccuracyRegression : public ::testing::TestWithParam<Expectation> {};
+
+TEST_P(HardAccuracyRegression, KeepsItsScores) {
+  const Expectation& e = GetParam();
+  const std::string name = e.cloud;
+  const auto clouds = name.rfind("crowded", 0) == 0  ? make_crowded_clouds(1)
+                      : name.rfind("sparse", 0) == 0 ? make_sparse_clouds(1)
+                                                     : make_combined_clouds(1);
+  for (auto c : clouds) {
+    if (c.name != name) continue;
+    recentre_offset(c.cloud);
+    const Skeleton s = extract_skeleton(c.cloud);
+    EXPECT_EQ(validate(s, c.cloud.size()), "");
+    const Metrics m = evaluate(s, c.truth.skeleton);
+    EXPECT_LE(m.spd, e.max_spd);
+    EXPECT_GE(m.bpc, e.min_bpc);
+    EXPECT_GE(m.epc, e.min_epc);
+    EXPECT_GE(m.bp_precision, e.min_bp_precision);
+    EXPECT_GE(m.ep_precision, e.min_ep_precision);
+    return;
+  }
+  FAIL() << "no cloud named " << name;
+}
+
+INSTANTIATE_TEST_SUITE_P(HarderSets, HardAccuracyRegression,
+                         ::testing::Values(Expectation{"crowded6_44003", 0.006, 0.78, 0.66, 0.8, 0.9},
+                                           Expectation{"sparse60_2views_4113", 0.008, 0.85, 0.85, 0.65, 0.8},
+                                           Expectation{"tree4_all", 0.014, 0.8, 0.78, 0.74, 0.78}),
                          [](const auto& info) { return std::string(info.param.cloud); });
 
 }  // namespace

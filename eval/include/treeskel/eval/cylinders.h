@@ -25,12 +25,19 @@ struct SurfaceSampling {
   double noise = 0.0;  ///< standard deviation of Gaussian noise along the surface normal
   /// When set, only the side of each cylinder facing this direction is kept (one scanner's view).
   std::optional<Eigen::Vector3d> facing;
+  /// When set, a scanner standing at this point: only the points it sees are kept (their side faces it
+  /// and no cylinder lies between), each with probability cos(incidence) x (d_near / d)^2, where d is
+  /// the point's distance from the scanner and d_near the distance from the scanner to the nearest
+  /// cylinder's box: a scanner's beams part with distance and meet the bark obliquely at its sides, so
+  /// far and grazing surfaces get fewer points. Must lie outside every cylinder.
+  std::optional<Eigen::Vector3d> viewpoint;
 };
 
 /// Points spread evenly by area on the lateral surfaces, without the points that fall inside another
 /// cylinder (so there are no points inside the wood at junctions). Deterministic for a seed and
 /// independent of the thread count.
-/// @throws treeskel::Error if the surfaces are almost entirely hidden inside each other.
+/// @throws treeskel::Error if the surfaces are almost entirely hidden inside each other (or from the
+/// viewpoint).
 PointCloud sample_cylinders(const std::vector<Cylinder>& cylinders, const SurfaceSampling& sampling);
 
 /// Distance from `p` to the axis segment of `c`.

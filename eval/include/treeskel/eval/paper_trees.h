@@ -40,6 +40,27 @@ struct GroundTruth {
 /// Grows tree `index` (1-6) with exactly the paper's counts of branch points and endpoints.
 GroundTruth make_paper_tree(int index, std::uint64_t seed = 1);
 
+/// How a tree is grown: its counts, and how its branches leave a fork. Forks grow one after the other
+/// on the most vigorous (longest, with some disorder) open tip; the first child of a fork continues it
+/// (the leader), the others leave it to the side. Angles in degrees from the parent's direction,
+/// lengths as shares of the parent's length. The defaults are the paper trees' shape.
+struct TreeShape {
+  int branch_points = 19;                       ///< nodes of degree 3 or more
+  int endpoints = 22;                           ///< nodes of degree 1, the trunk base included
+  std::array<double, 2> leader_angle{4.0, 16.0};
+  std::array<double, 2> side_angle{28.0, 52.0};
+  std::array<double, 2> leader_length{0.78, 0.9};
+  std::array<double, 2> side_length{0.62, 0.78};
+  double lift = 0.2;       ///< side branches turn up: this much of +z is added to their direction
+  int attempts = 40;       ///< directions tried per child, keeping the one farthest from other branches
+  double clearance = 0.45; ///< a direction whose chord keeps this share of its length from others is taken at once
+};
+
+/// Grows a tree of `shape` from the random stream `seed`, normalised like the paper's trees.
+/// @throws OptionError if the counts are impossible (endpoints must be 2 + branch points plus at most
+/// two extra children per fork).
+GroundTruth grow_truth(const TreeShape& shape, std::uint64_t seed);
+
 /// The four degradations of the paper's Table 1.
 enum class Degradation { points, missing, noise, vdensity };
 
