@@ -1,7 +1,7 @@
 // The paper's accuracy benchmark (Fu et al. 2020, section V.A) with an ablation and a seed spread.
 //
 //   bench_accuracy [--seeds 1,2,3] [--out docs/accuracy.md] [--paper bench/data/paper_tables.csv]
-//                  [--pypetree DIR] [--sets paper,hard] [--prune-radius F]
+//                  [--pypetree DIR] [--sets paper,hard] [--prune-radius F] [--band-factor F]
 //
 // Generates the six ground-truth trees and their 72 clouds for every seed, skeletonizes each cloud with
 // six configurations (the paper's method with its octree depth and without treeskel's level-set fixes,
@@ -238,7 +238,7 @@ int main(int argc, char** argv) {
   std::vector<std::uint64_t> seeds{1, 2, 3};
   std::string out = "docs/accuracy.md", paper_csv = "bench/data/paper_tables.csv", pypetree;
   bool run_paper = true, run_hard = true;
-  double prune_radius = PruneOptions{}.radius_factor;
+  double prune_radius = PruneOptions{}.radius_factor, band_factor = 1.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -255,6 +255,8 @@ int main(int argc, char** argv) {
       paper_csv = value();
     } else if (a == "--pypetree") {
       pypetree = value();
+    } else if (a == "--band-factor") {
+      band_factor = std::stod(value());
     } else if (a == "--prune-radius") {
       prune_radius = std::stod(value());
     } else if (a == "--sets") {
@@ -264,12 +266,22 @@ int main(int argc, char** argv) {
       if (!run_paper && !run_hard) throw std::runtime_error("--sets takes paper, hard or both");
     } else {
       std::cout << "usage: bench_accuracy [--seeds 1,2,3] [--out FILE.md] [--paper paper_tables.csv] [--pypetree DIR] [--sets paper,hard]\n"
-                   "                      [--prune-radius F  (treeskel's spur pruning factor, to try a value)]\n";
+                   "                      [--prune-radius F  (treeskel's spur pruning factor, to try a value)]\n"
+                   "                      [--band-factor F  (treeskel's band width as F times its default, 2 cells;\n"
+                   "                                         the pruning length stays at the default band)]\n";
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }
   auto configs = configurations();
   configs.back().options.prune.radius_factor = prune_radius;
+  // treeskel's options for one cloud: the band width scaled by --band-factor (the scales that follow
+  // the cell are fixed first, so only the band changes).
+  const auto options_for = [&](const Config& config, const PointCloud& cloud) {
+    if (&config != &configs.back() || band_factor == 1.0) return config.options;
+    SkeletonOptions o = automatic_options(cloud, config.options);
+    o.level_sets.band_width *= band_factor;
+    return o;
+  };
   const std::size_t full = configs.size() - 1, paper_method = configs.size() - 2;
   const PaperNumbers paper = read_paper(paper_csv);
   const auto start = std::chrono::steady_clock::now();
@@ -283,7 +295,7 @@ int main(int argc, char** argv) {
         for (const auto& config : configs) {
           Skeleton s;
           try {
-            s = extract_skeleton(c.cloud, config.options);
+            s = extract_skeleton(c.cloud, options_for(config, c.cloud));
           } catch (const Error& e) {
             std::cerr << c.name << " (" << config.name << "): " << e.what() << "\n";
           }
@@ -304,7 +316,7 @@ int main(int argc, char** argv) {
           Skeleton s;
           SkeletonStats stats;
           try {
-            s = extract_skeleton(c.cloud, config.options, &stats);
+            s = extract_skeleton(c.cloud, options_for(config, c.cloud), &stats);
           } catch (const Error& e) {
             std::cerr << c.name << " (" << config.name << "): " << e.what() << "\n";
           }
