@@ -1,23 +1,16 @@
 // The tool restarts itself once with glibc's huge-page and memory-reuse tunables, and gives the
 // programs it runs the user's environment back (cli/huge_pages.h).
+#include "run_tool.h"
+
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstdio>
 #include <fstream>
 #include <string>
 
 namespace {
 
 std::string probe(const std::string& environment) {
-  const std::string command = "env -u GLIBC_TUNABLES -u TREESKEL_NO_HUGE_PAGES " + environment + " '" HUGE_PAGES_PROBE "'";
-  std::string out;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) return out;
-  std::array<char, 512> buffer;
-  for (std::size_t n; (n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0;) out.append(buffer.data(), n);
-  ::pclose(pipe);
-  return out;
+  return treeskel::test::capture("env -u GLIBC_TUNABLES -u TREESKEL_NO_HUGE_PAGES " + environment + " '" HUGE_PAGES_PROBE "'").out;
 }
 
 bool huge_pages_possible() {
@@ -28,7 +21,6 @@ bool huge_pages_possible() {
   std::string modes;
   return std::getline(mode, modes) && modes.find("[never]") == std::string::npos;
 }
-
 
 }  // namespace
 

@@ -1,4 +1,4 @@
-// Runs the treeskel tool from the end-to-end tests, capturing what it prints.
+// Runs the treeskel tool (or any command) from the tests, capturing what it prints.
 #pragma once
 
 #include <sys/wait.h>
@@ -14,10 +14,8 @@ struct Result {
   std::string out;  // stdout and stderr
 };
 
-/// Runs the tool with `args` (a shell word list) in `cwd`, capturing both streams; `before` is shell
-/// text run first in the same shell (e.g. a ulimit).
-inline Result run(const std::string& args, const std::string& cwd = ".", const std::string& before = "") {
-  const std::string command = "cd '" + cwd + "' && " + before + " '" TREESKEL_EXE "' " + args + " 2>&1";
+/// Runs the shell `command` and captures what it writes on stdout.
+inline Result capture(const std::string& command) {
   Result r;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return r;
@@ -28,6 +26,14 @@ inline Result run(const std::string& args, const std::string& cwd = ".", const s
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
 }
+
+#ifdef TREESKEL_EXE
+/// Runs the tool with `args` (a shell word list) in `cwd`, capturing both streams; `before` is shell
+/// text run first in the same shell (e.g. a ulimit).
+inline Result run(const std::string& args, const std::string& cwd = ".", const std::string& before = "") {
+  return capture("cd '" + cwd + "' && " + before + " '" TREESKEL_EXE "' " + args + " 2>&1");
+}
+#endif
 
 inline std::string quoted(const std::string& s) { return "'" + s + "'"; }
 
