@@ -311,7 +311,7 @@ int main(int argc, char** argv) {
     if (!run_hard) break;
     for (auto make : {eval::make_crowded_clouds, eval::make_sparse_clouds, eval::make_combined_clouds})
       for (auto& c : make(seed)) {
-        HardRow row{c.name, c.group, c.cloud.size(), {}, count_branch_points(c.truth.skeleton.graph)};
+        HardRow row{c.name, c.group, c.cloud.size(), {}, count_branch_points(c.truth.skeleton.graph), {}};
         for (const auto& config : configs) {
           Skeleton s;
           SkeletonStats stats;
