@@ -16,6 +16,14 @@ struct Expectation {
   double max_spd, min_bpc, min_epc, min_bp_precision, min_ep_precision;
 };
 
+void expect_scores(const Metrics& m, const Expectation& e) {
+  EXPECT_LE(m.spd, e.max_spd);
+  EXPECT_GE(m.bpc, e.min_bpc);
+  EXPECT_GE(m.epc, e.min_epc);
+  EXPECT_GE(m.bp_precision, e.min_bp_precision);
+  EXPECT_GE(m.ep_precision, e.min_ep_precision);
+}
+
 class AccuracyRegression : public ::testing::TestWithParam<Expectation> {};
 
 TEST_P(AccuracyRegression, KeepsItsScores) {
@@ -28,11 +36,7 @@ TEST_P(AccuracyRegression, KeepsItsScores) {
     const Skeleton s = extract_skeleton(c.cloud);
     EXPECT_EQ(validate(s, c.cloud.size()), "");
     const Metrics m = evaluate(s, truth.skeleton);
-    EXPECT_LE(m.spd, e.max_spd);
-    EXPECT_GE(m.bpc, e.min_bpc);
-    EXPECT_GE(m.epc, e.min_epc);
-    EXPECT_GE(m.bp_precision, e.min_bp_precision);
-    EXPECT_GE(m.ep_precision, e.min_ep_precision);
+    expect_scores(m, e);
     return;
   }
   FAIL() << "no cloud named " << e.cloud;
@@ -66,11 +70,7 @@ TEST_P(HardAccuracyRegression, KeepsItsScores) {
     const Skeleton s = extract_skeleton(c.cloud);
     EXPECT_EQ(validate(s, c.cloud.size()), "");
     const Metrics m = evaluate(s, c.truth.skeleton);
-    EXPECT_LE(m.spd, e.max_spd);
-    EXPECT_GE(m.bpc, e.min_bpc);
-    EXPECT_GE(m.epc, e.min_epc);
-    EXPECT_GE(m.bp_precision, e.min_bp_precision);
-    EXPECT_GE(m.ep_precision, e.min_ep_precision);
+    expect_scores(m, e);
     return;
   }
   FAIL() << "no cloud named " << name;
