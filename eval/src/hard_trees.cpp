@@ -22,15 +22,6 @@ Eigen::AlignedBox3d wood_box(const GroundTruth& truth) {
 
 }  // namespace
 
-std::string hard_kind_name(HardKind kind) {
-  switch (kind) {
-    case HardKind::crowded: return "crowded";
-    case HardKind::sparse: return "sparse";
-    case HardKind::combined: return "combined";
-  }
-  return "";
-}
-
 TreeShape crowded_shape(int index) {
   if (index < 4 || index > 6) throw OptionError("crowded trees take the counts of trees 4 to 6, got " + std::to_string(index));
   const PaperTreeSpec& spec = paper_tree_specs()[index - 1];
@@ -58,7 +49,7 @@ std::vector<HardCloud> make_crowded_clouds(std::uint64_t seed) {
       SurfaceSampling s;
       s.points = counts[v];
       s.seed = mix(seed, 400 + 10 * t + v);
-      clouds.push_back({"crowded" + std::to_string(t) + "_" + std::to_string(counts[v]), HardKind::crowded, "crowded crowns", truth,
+      clouds.push_back({"crowded" + std::to_string(t) + "_" + std::to_string(counts[v]), "crowded crowns", truth,
                         sample_cylinders(truth.cylinders, s)});
     }
   }
@@ -95,11 +86,13 @@ GroundTruth cut_to_scan(const GroundTruth& truth, const PointCloud& cloud, const
   std::vector<int> children(n, 0);
   for (NodeId v = 0; v < n; ++v)
     if (v != s.root) ++children[parent[v]];
+  const Eigen::Vector3d shift = s.offset - cloud.offset;  // a node's position in the cloud's frame
   const auto seen = [&](NodeId v) {
     const double reach = s[v].radius + options.reach, reach2 = reach * reach;
+    const Eigen::Vector3d at = s[v].position + shift;
     int found = 0;
     for (const auto& p : cloud.positions)
-      if ((p - s[v].position).squaredNorm() <= reach2 && ++found >= options.min_points) return true;
+      if ((p - at).squaredNorm() <= reach2 && ++found >= options.min_points) return true;
     return false;
   };
   std::vector<char> removed(n, 0);
@@ -146,7 +139,6 @@ std::vector<HardCloud> make_sparse_clouds(std::uint64_t seed) {
         PointCloud cloud = virtual_scan(truth, scan);
         clouds.push_back({"sparse" + std::to_string(b) + "_" + std::to_string(scanners) + "view" +
                               (scanners > 1 ? "s" : "") + "_" + std::to_string(cloud.size()),
-                          HardKind::sparse,
                           density == 0 ? "sparse scans, 2,000-3,000 points" : "sparse scans, 4,000-6,200 points",
                           cut_to_scan(truth, cloud), std::move(cloud)});
       }
@@ -186,7 +178,7 @@ std::vector<HardCloud> make_combined_clouds(std::uint64_t seed) {
     for (std::size_t o = 0; o < kept.size() / 100; ++o)
       kept.positions[static_cast<std::size_t>(unit(rng) * kept.size()) % kept.size()] =
           box.min() + (box.max() - box.min()).cwiseProduct(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
-    clouds.push_back({"tree" + std::to_string(t) + "_all", HardKind::combined, "every degradation at once", truth, std::move(kept)});
+    clouds.push_back({"tree" + std::to_string(t) + "_all", "every degradation at once", truth, std::move(kept)});
   }
   return clouds;
 }

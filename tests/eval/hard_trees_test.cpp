@@ -146,6 +146,11 @@ TEST(HardTrees, CutToScanTrimsTipsTheScanDoesNotReach) {
   for (NodeId v = 0; v < cut.skeleton.node_count(); ++v) most_negative_x = std::min(most_negative_x, cut.skeleton[v].position.x());
   EXPECT_NEAR(most_negative_x, -0.03, 1e-12);
   EXPECT_EQ(cut.skeleton[cut.skeleton.root].position, Eigen::Vector3d::Zero());
+  // The same scan in another frame (a georeferenced cloud) shows the same part.
+  PointCloud moved = cloud;
+  moved.offset = Eigen::Vector3d(500000.0, 0.0, 0.0);
+  for (auto& p : moved.positions) p.x() -= 500000.0;
+  EXPECT_EQ(cut_to_scan(t, moved, {0.0, 2}).skeleton.node_count(), cut.skeleton.node_count());
   // Nothing seen beyond the trunk: the fork is no longer one.
   cloud.positions.resize(101);
   const GroundTruth trunk = cut_to_scan(t, cloud, {0.0, 2});

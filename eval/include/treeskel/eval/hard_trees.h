@@ -19,15 +19,9 @@
 
 namespace treeskel::eval {
 
-enum class HardKind { crowded, sparse, combined };
-
-/// "crowded", "sparse", "combined".
-std::string hard_kind_name(HardKind kind);
-
 /// One cloud of a harder set with the truth it is scored against.
 struct HardCloud {
   std::string name;  ///< e.g. "crowded5_23011", "sparse130_2views_2688", "tree4_all"
-  HardKind kind = HardKind::crowded;
   std::string group;  ///< the table row it is averaged in, e.g. "sparse scans, 2,000-3,000 points"
   GroundTruth truth;
   PointCloud cloud;
@@ -62,7 +56,7 @@ struct CutOptions {
   int min_points = 2;    ///< points within reach that make an endpoint seen
 };
 
-/// The part of `truth` that `cloud` shows: endpoints (other than the root) with fewer than
+/// The part of `truth` that `cloud` shows (compared in the world frame, position + offset): endpoints (other than the root) with fewer than
 /// `min_points` points within their radius + `reach` are removed, again and again, so every branch is
 /// cut back to its last seen node. Branch points whose branches were cut away become plain nodes; the
 /// root and every node on the way to a seen tip stay, gaps of an occlusion included. The cylinders stay.
