@@ -145,7 +145,8 @@ struct HardRow {
 void write_hard_sets(std::ostream& md, std::map<std::uint64_t, std::vector<HardRow>>& rows,
                      const std::vector<std::uint64_t>& seeds, const std::vector<Config>& configs) {
   md << "## Harder trees: crowded crowns, sparse scans, every degradation at once\n\n"
-     << "Made by `eval/hard_trees.h`; the tables are for treeskel's defaults unless they say otherwise:\n\n"
+     << "Made by `eval/hard_trees.h` (`treeskel synth DIR --set hard` writes them, each cloud with its truth); "
+        "the tables are for treeskel's defaults unless they say otherwise:\n\n"
      << "- **crowded crowns**: the counts of trees 4-6, grown with side branches at 15-35 degrees (the paper "
         "trees': 28-52) and 0.55-0.72 of their parent's length, placed with little search for room (10 tries, "
         "content with a clearance of 15% of their length; the paper trees: 40 tries, 45%), so forks lie "

@@ -3,6 +3,7 @@
 #include "report.h"
 
 #include "treeskel/error.h"
+#include "treeskel/eval/hard_trees.h"
 #include "treeskel/eval/metrics.h"
 #include "treeskel/eval/paper_trees.h"
 #include "treeskel/io/point_cloud_io.h"
@@ -24,6 +25,7 @@ struct SynthSettings {
   std::string folder;
   std::uint64_t seed = 1;
   std::string format = "xyz";
+  std::string set = "paper";
   bool quiet = false;
 };
 
@@ -34,6 +36,24 @@ int run_synth(const SynthSettings& s) {
   if (!fs::is_directory(s.folder)) throw Error(s.folder + ": cannot create the folder");
   Progress progress(s.quiet);
   std::size_t written = 0;
+  if (s.set == "hard") {
+    // Each harder cloud with its own truth: a sparse scan's truth is cut back to what it shows.
+    const std::vector<std::vector<eval::HardCloud> (*)(std::uint64_t)> sets{
+        eval::make_crowded_clouds, eval::make_sparse_clouds, eval::make_combined_clouds};
+    for (std::size_t k = 0; k < sets.size(); ++k) {
+      progress("harder set " + std::to_string(k + 1) + " of 3", k / 3.0);
+      for (const auto& c : sets[k](s.seed)) {
+        io::write_point_cloud(fs::path(s.folder) / (c.name + "." + s.format), c.cloud);
+        io::write_skeleton(fs::path(s.folder) / (c.name + "_truth.json"), c.truth.skeleton);
+        ++written;
+      }
+    }
+    progress.clear();
+    if (!s.quiet)
+      std::cout << "wrote " << written << " clouds of the harder sets, each with its truth (<cloud>_truth.json), to "
+                << s.folder << " in " << format_seconds(clock.seconds()) << '\n';
+    return 0;
+  }
   for (int t = 1; t <= 6; ++t) {
     progress("tree " + std::to_string(t), (t - 1) / 6.0);
     const eval::GroundTruth truth = eval::make_paper_tree(t, s.seed);
@@ -100,6 +120,12 @@ Command add_synth(CLI::App& app) {
                "clouds named as in the paper's Table 1, normalised to a longest side of 1.");
   c->add_option("folder", s->folder, "Folder to write into (created if missing)")->required();
   c->add_option("--seed", s->seed, "Seed of the trees and clouds")->default_val(s->seed);
+  c->add_option("--set", s->set,
+                "paper: the paper's 72 clouds; hard: the harder sets of docs/accuracy.md (9 crowded crowns, 18 "
+                "sparse virtual scans whose truth is cut back to what they show, 6 with every degradation at once), "
+                "each cloud with its own <cloud>_truth.json")
+      ->default_val(s->set)
+      ->check(CLI::IsMember({"paper", "hard"}));
   c->add_option("--format", s->format, "Cloud file format")->default_val(s->format)
       ->check(CLI::IsMember({"xyz", "ply", "las", "txt", "csv"}));
   c->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");

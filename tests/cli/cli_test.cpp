@@ -134,6 +134,27 @@ TEST(Cli, SynthWritesTheBenchmarkAndEvalScoresIt) {
   EXPECT_EQ(run("eval " + quoted(dir.path("none.ply")) + " " + truth).code, 1);
 }
 
+TEST(Cli, SynthWritesTheHarderSetsEachCloudWithItsTruth) {
+  const test::TempDir dir;
+  const Result synth = run("synth " + quoted(dir.path("hard")) + " --set hard --format ply -q");
+  ASSERT_EQ(synth.code, 0) << synth.out;
+  std::size_t clouds = 0, truths = 0;
+  for (const auto& entry : fs::directory_iterator(dir.path("hard"))) {
+    clouds += entry.path().extension() == ".ply";
+    truths += entry.path().filename().string().find("_truth.json") != std::string::npos;
+  }
+  EXPECT_EQ(clouds, 33u);
+  EXPECT_EQ(truths, 33u);
+  // A sparse scan's truth is cut back to what the scan shows: fewer forks than the grown tree's 230.
+  const Result self = run("eval " + quoted(dir.path("hard/sparse230_1view_2529_truth.json")) + " " +
+                          quoted(dir.path("hard/sparse230_1view_2529_truth.json")) + " --json");
+  ASSERT_EQ(self.code, 0) << self.out;
+  const auto j = nlohmann::json::parse(self.out);
+  EXPECT_EQ(j["bpc"], 1.0);
+  EXPECT_LT(j["branch_points"]["truth"].get<int>(), 230);
+  EXPECT_EQ(run("synth " + quoted(dir.path("other")) + " --set crowded").code, 2);
+}
+
 TEST(Cli, UsageErrorsAndHelp) {
   EXPECT_EQ(run("").code, 2);
   EXPECT_EQ(run("skeletonize --depth 40").code, 2);
