@@ -106,18 +106,22 @@ TEST(Cli, BadInputFailsWithAMessageAndWritesNothing) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir.root()), fs::directory_iterator()), 5);
 }
 
+/// How many files of `folder` have names ending in `suffix`.
+std::size_t files_ending(const std::string& folder, const std::string& suffix) {
+  std::size_t n = 0;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    n += name.size() >= suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  }
+  return n;
+}
+
 TEST(Cli, SynthWritesTheBenchmarkAndEvalScoresIt) {
   const test::TempDir dir;
   const Result synth = run("synth " + quoted(dir.path("bench")) + " --seed 3 -q");
   ASSERT_EQ(synth.code, 0) << synth.out;
-  std::size_t clouds = 0, truths = 0;
-  for (const auto& entry : fs::directory_iterator(dir.path("bench"))) {
-    const std::string name = entry.path().filename().string();
-    clouds += entry.path().extension() == ".xyz";
-    truths += name.find("_truth.") != std::string::npos;
-  }
-  EXPECT_EQ(clouds, 72u);
-  EXPECT_EQ(truths, 12u);
+  EXPECT_EQ(files_ending(dir.path("bench"), ".xyz"), 72u);
+  EXPECT_EQ(files_ending(dir.path("bench"), "_truth.json") + files_ending(dir.path("bench"), "_truth.ply"), 12u);
   // The ground truth scored against itself is perfect; a skeleton of one of its clouds is close.
   const std::string truth = quoted(dir.path("bench/tree2_truth.json"));
   const Result self = run("eval " + truth + " " + quoted(dir.path("bench/tree2_truth.ply")) + " --json");
@@ -138,13 +142,8 @@ TEST(Cli, SynthWritesTheHarderSetsEachCloudWithItsTruth) {
   const test::TempDir dir;
   const Result synth = run("synth " + quoted(dir.path("hard")) + " --set hard --format ply -q");
   ASSERT_EQ(synth.code, 0) << synth.out;
-  std::size_t clouds = 0, truths = 0;
-  for (const auto& entry : fs::directory_iterator(dir.path("hard"))) {
-    clouds += entry.path().extension() == ".ply";
-    truths += entry.path().filename().string().find("_truth.json") != std::string::npos;
-  }
-  EXPECT_EQ(clouds, 33u);
-  EXPECT_EQ(truths, 33u);
+  EXPECT_EQ(files_ending(dir.path("hard"), ".ply"), 33u);
+  EXPECT_EQ(files_ending(dir.path("hard"), "_truth.json"), 33u);
   // A sparse scan's truth is cut back to what the scan shows: fewer forks than the grown tree's 230.
   const Result self = run("eval " + quoted(dir.path("hard/sparse230_1view_2529_truth.json")) + " " +
                           quoted(dir.path("hard/sparse230_1view_2529_truth.json")) + " --json");
