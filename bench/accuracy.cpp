@@ -283,6 +283,16 @@ int main(int argc, char** argv) {
     o.level_sets.band_width *= band_factor;
     return o;
   };
+  // A cloud's skeleton with one configuration; a failure is reported and scores as an empty skeleton.
+  const auto skeleton_of = [&](const std::string& name, const PointCloud& cloud, const Config& config,
+                               SkeletonStats* stats) {
+    try {
+      return extract_skeleton(cloud, options_for(config, cloud), stats);
+    } catch (const Error& e) {
+      std::cerr << name << " (" << config.name << "): " << e.what() << "\n";
+      return Skeleton{};
+    }
+  };
   const std::size_t full = configs.size() - 1, paper_method = configs.size() - 2;
   const PaperNumbers paper = read_paper(paper_csv);
   const auto start = std::chrono::steady_clock::now();
@@ -294,13 +304,7 @@ int main(int argc, char** argv) {
       for (const auto& c : eval::make_paper_clouds(truth, t, seed)) {
         Row row{c.name, t, c.degradation, {}};
         for (const auto& config : configs) {
-          Skeleton s;
-          try {
-            s = extract_skeleton(c.cloud, options_for(config, c.cloud));
-          } catch (const Error& e) {
-            std::cerr << c.name << " (" << config.name << "): " << e.what() << "\n";
-          }
-          row.by_config.push_back(eval::evaluate(s, truth.skeleton));
+          row.by_config.push_back(eval::evaluate(skeleton_of(c.name, c.cloud, config, nullptr), truth.skeleton));
         }
         rows[seed].push_back(std::move(row));
       }
@@ -310,22 +314,16 @@ int main(int argc, char** argv) {
   std::map<std::uint64_t, std::vector<HardRow>> hard_rows;  // by seed
   for (auto seed : seeds) {
     if (!run_hard) break;
-    for (auto make : {eval::make_crowded_clouds, eval::make_sparse_clouds, eval::make_combined_clouds})
-      for (auto& c : make(seed)) {
-        HardRow row{c.name, c.group, c.cloud.size(), {}, count_branch_points(c.truth.skeleton.graph), {}};
-        for (const auto& config : configs) {
-          Skeleton s;
-          SkeletonStats stats;
-          try {
-            s = extract_skeleton(c.cloud, options_for(config, c.cloud), &stats);
-          } catch (const Error& e) {
-            std::cerr << c.name << " (" << config.name << "): " << e.what() << "\n";
-          }
-          row.by_config.push_back(eval::evaluate(s, c.truth.skeleton));
-          if (&config == &configs.back()) row.forks = close_forks(s, c.truth.skeleton, stats.band_width);
-        }
-        hard_rows[seed].push_back(std::move(row));
+    for (const auto& c : eval::make_hard_clouds(seed)) {
+      HardRow row{c.name, c.group, c.cloud.size(), {}, count_branch_points(c.truth.skeleton.graph), {}};
+      for (const auto& config : configs) {
+        SkeletonStats stats;
+        const Skeleton s = skeleton_of(c.name, c.cloud, config, &stats);
+        row.by_config.push_back(eval::evaluate(s, c.truth.skeleton));
+        if (&config == &configs.back()) row.forks = close_forks(s, c.truth.skeleton, stats.band_width);
       }
+      hard_rows[seed].push_back(std::move(row));
+    }
     std::cerr << "seed " << seed << ": harder sets done\n";
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

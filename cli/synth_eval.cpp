@@ -38,15 +38,13 @@ int run_synth(const SynthSettings& s) {
   std::size_t written = 0;
   if (s.set == "hard") {
     // Each harder cloud with its own truth: a sparse scan's truth is cut back to what it shows.
-    const std::vector<std::vector<eval::HardCloud> (*)(std::uint64_t)> sets{
-        eval::make_crowded_clouds, eval::make_sparse_clouds, eval::make_combined_clouds};
-    for (std::size_t k = 0; k < sets.size(); ++k) {
-      progress("harder set " + std::to_string(k + 1) + " of 3", k / 3.0);
-      for (const auto& c : sets[k](s.seed)) {
-        io::write_point_cloud(fs::path(s.folder) / (c.name + "." + s.format), c.cloud);
-        io::write_skeleton(fs::path(s.folder) / (c.name + "_truth.json"), c.truth.skeleton);
-        ++written;
-      }
+    progress("making the harder sets", 0.0);
+    const std::vector<eval::HardCloud> clouds = eval::make_hard_clouds(s.seed);
+    for (const auto& c : clouds) {
+      progress("writing " + c.name, static_cast<double>(written) / clouds.size());
+      io::write_point_cloud(fs::path(s.folder) / (c.name + "." + s.format), c.cloud);
+      io::write_skeleton(fs::path(s.folder) / (c.name + "_truth.json"), c.truth.skeleton);
+      ++written;
     }
     progress.clear();
     if (!s.quiet)

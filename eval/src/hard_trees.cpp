@@ -183,4 +183,11 @@ std::vector<HardCloud> make_combined_clouds(std::uint64_t seed) {
   return clouds;
 }
 
+std::vector<HardCloud> make_hard_clouds(std::uint64_t seed) {
+  std::vector<HardCloud> clouds = make_crowded_clouds(seed);
+  for (auto make : {make_sparse_clouds, make_combined_clouds})
+    for (auto& c : make(seed)) clouds.push_back(std::move(c));
+  return clouds;
+}
+
 }  // namespace treeskel::eval

@@ -71,4 +71,7 @@ std::vector<HardCloud> make_sparse_clouds(std::uint64_t seed = 1);
 /// first point count.
 std::vector<HardCloud> make_combined_clouds(std::uint64_t seed = 1);
 
+/// The three harder sets in this order: crowded crowns, sparse scans, every degradation at once.
+std::vector<HardCloud> make_hard_clouds(std::uint64_t seed = 1);
+
 }  // namespace treeskel::eval
