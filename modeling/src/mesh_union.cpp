@@ -278,9 +278,13 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
     b.max().array() += grow;
     boxes.push_back(b);
   }
-  // A piece the union refuses is kept beside the mesh: its triangles are added as they are.
+  // A piece the union refuses is kept beside the mesh: its triangles are added as they are, after the
+  // last union. (Joined at once, a piece that is open, crosses itself or crosses the whole, which is
+  // why it was refused, broke corefinement's precondition for every union after it: CGAL crashed on
+  // a model of AdTree's Lille_11.)
+  Surface apart;
   auto keep_apart = [&](const Surface& s, std::size_t count) {
-    whole.join(s);
+    apart.join(s);
     out.failed += count;
   };
   std::vector<Surface> surfaces(pieces.size());
@@ -388,6 +392,7 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
       else keep_apart(surfaces[i], 1);
     }
   }
+  whole.join(apart);
   whole.collect_garbage();
   // The exact points rounded to what 32-bit floats hold in the input's frame, where most formats and
   // MeshLab keep them: a file then holds the mesh that was checked.

@@ -91,5 +91,32 @@ TEST(MeshUnion, PiecesApartStayAsTheirOwnComponents) {
   EXPECT_EQ(united.mesh.n_faces(), 2 * a.n_faces());
 }
 
+// A piece the union refuses (here: open, one face missing) is set beside the mesh only after the
+// last union: joined at once, it broke the precondition of every corefinement after it, and the
+// limb that crosses it through the trunk was refused too (or CGAL crashed).
+TEST(MeshUnion, ARefusedPieceDoesNotSpoilTheUnionsAfterIt) {
+  const TreeMesh trunk = sweep_mesh(test::straight(2.0, 0.1, 20));
+  auto limb = [](double z, const Eigen::Vector3d& to) {
+    Skeleton s;
+    SkeletonNode a;
+    a.position = Eigen::Vector3d(0, 0, z);
+    a.radius = 0.04;
+    s.root = add_node(s, a);
+    test::add_run(s, s.root, to, 0.03, 10);
+    return sweep_mesh(s);
+  };
+  TreeMesh open = limb(0.8, Eigen::Vector3d(1, 0, 1.6));
+  open.request_face_status();
+  open.request_edge_status();
+  open.request_vertex_status();
+  open.delete_face(*open.faces_begin(), false);
+  open.garbage_collection();
+  const TreeMesh crossing = limb(1.6, Eigen::Vector3d(1, 0, 0.8));  // crosses `open` at x = 0.5
+  const auto united = detail::unite(trunk, {open, crossing}, 1e-6 * 2.0);
+  EXPECT_EQ(united.failed, 1u);
+  EXPECT_EQ(united.united, 1u);
+  EXPECT_EQ(united.mesh.n_faces(), detail::unite(trunk, {crossing}, 1e-6 * 2.0).mesh.n_faces() + open.n_faces());
+}
+
 }  // namespace
 }  // namespace treeskel::modeling
