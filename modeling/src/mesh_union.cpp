@@ -278,10 +278,10 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
     b.max().array() += grow;
     boxes.push_back(b);
   }
-  // A piece the union refuses is kept beside the mesh: its triangles are added as they are, after the
-  // last union. (Joined at once, a piece that is open, crosses itself or crosses the whole, which is
-  // why it was refused, broke corefinement's precondition for every union after it: CGAL crashed on
-  // a model of AdTree's Lille_11.)
+  // A piece the union refuses is kept beside the mesh: its triangles are returned as they are, apart
+  // from the united mesh. (Joined into the whole, a piece that is open, crosses itself or crosses
+  // the whole, which is why it was refused, broke corefinement's precondition for every union after
+  // it, in this call or the caller's next: CGAL crashed on completed models of AdTree's Lille_11.)
   Surface apart;
   auto keep_apart = [&](const Surface& s, std::size_t count) {
     apart.join(s);
@@ -392,8 +392,8 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
       else keep_apart(surfaces[i], 1);
     }
   }
-  whole.join(apart);
   whole.collect_garbage();
+  if (apart.number_of_faces() > 0) out.apart = to_tree_mesh(apart, offset);
   // The exact points rounded to what 32-bit floats hold in the input's frame, where most formats and
   // MeshLab keep them: a file then holds the mesh that was checked.
   out.mesh = to_tree_mesh(whole, offset);

@@ -15,7 +15,8 @@ namespace treeskel::modeling::detail {
 struct UnionResult {
   TreeMesh mesh;
   std::size_t united = 0;        ///< pieces now part of the mesh
-  std::size_t failed = 0;        ///< pieces the union could not take (kept apart, as `apart`)
+  TreeMesh apart;                ///< the pieces the union could not take, as they are (not in `mesh`)
+  std::size_t failed = 0;        ///< pieces the union could not take (in `apart`)
   std::size_t skipped = 0;       ///< pieces left out of the mesh: the budget of corefinements was spent
   std::size_t batches = 0;       ///< corefinements run (with the base or among the pieces)
   std::size_t welded = 0;        ///< edges shorter than the weld distance, collapsed

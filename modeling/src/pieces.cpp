@@ -200,6 +200,9 @@ class Uniter {
     }
   }
 
+  /// The pieces the unions refused, to be set beside the mesh once no union is left to run.
+  const std::vector<TreeMesh>& apart() const { return apart_; }
+
   /// `base` with `pieces` united into it, adding no crossing in the floats of the frame.
   TreeMesh unite(const TreeMesh& base, std::vector<Piece> pieces) {
     if (pieces.empty()) return base;
@@ -242,6 +245,7 @@ class Uniter {
       }
       if (pairs.size() > before) return retry(base, std::move(pieces), mesh, pairs, boxes);
     }
+    if (united.apart.n_faces() > 0) apart_.push_back(std::move(united.apart));
     st_.welded_edges += welded;
     st_.pieces_failed += united.skipped;
     st_.pieces -= std::min(st_.pieces, united.skipped);
@@ -289,7 +293,20 @@ class Uniter {
   double floor_;
   SweepStats& st_;
   std::size_t swept_ = 0, unions_ = 0;
+  std::vector<TreeMesh> apart_;  // the pieces the unions refused
 };
+
+/// Adds the vertices and faces of `part` to `mesh` as they are.
+void append_mesh(TreeMesh& mesh, const TreeMesh& part) {
+  std::vector<TreeMesh::VertexHandle> map;
+  map.reserve(part.n_vertices());
+  for (auto v : part.vertices()) map.push_back(mesh.add_vertex(part.point(v)));
+  for (auto f : part.faces()) {
+    std::vector<TreeMesh::VertexHandle> corners;
+    for (auto v : part.fv_range(f)) corners.push_back(map[static_cast<std::size_t>(v.idx())]);
+    mesh.add_face(corners);
+  }
+}
 
 }  // namespace
 
@@ -358,7 +375,9 @@ TreeMesh add_pieces(TreeMesh mesh, const std::vector<Skeleton>& pieces, const Sw
   Uniter uniter(options, bounding_box(mesh).sizes().maxCoeff(), frame, floor_radius, st);
   std::vector<Piece> swept;
   for (const auto& piece : pieces) uniter.sweep(piece, swept);
-  return uniter.unite(mesh, std::move(swept));
+  TreeMesh united = uniter.unite(mesh, std::move(swept));
+  for (const auto& part : uniter.apart()) append_mesh(united, part);
+  return united;
 }
 
 }  // namespace treeskel::modeling::detail
