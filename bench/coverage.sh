@@ -3,13 +3,16 @@
 # share of the cloud's points within 1% and 2% of its height from the mesh's surface, the mesh's
 # reach along the up axis over the cloud's, and the mesh's own coverage of the skeleton's length.
 # A cloud with a `foliage` column (arbor's: 0 = wood) is measured on its wood points only.
-# Usage: bench/coverage.sh [--up y] CLOUD...   (TREESKEL_BUILD_DIR overrides build/)
+# Usage: bench/coverage.sh [--up y] [--FLAG...] CLOUD...   (TREESKEL_BUILD_DIR overrides build/)
+# Flags other than --up (e.g. --complete, --no-unite) go to `treeskel model` as they are.
 set -uo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${TREESKEL_BUILD_DIR:-$here/build}
 extra=()
 up=z
-if [ "${1:-}" = "--up" ]; then extra=(--up "$2"); up=$2; shift 2; fi
+while [ "${1:-}" != "${1#--}" ]; do
+  if [ "$1" = "--up" ]; then extra+=(--up "$2"); up=$2; shift 2; else extra+=("$1"); shift; fi
+done
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 echo "| cloud | points | within 1% | within 2% | reach | skeleton length in the mesh | seconds |"

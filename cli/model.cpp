@@ -99,7 +99,11 @@ int run(Settings& s) {
   progress("fitting radii", 0.66);
   modeling::RadiusStats radius_stats;
   try {
-    modeling::fit_radii(skeleton, cloud ? &*cloud : nullptr, s.radii, &radius_stats);
+    modeling::RadiusOptions radii = s.radii;
+    radii.cell_size = skeleton_stats.cell_size;
+    if (!cloud && radii.complete && !s.quiet && !s.json)
+      std::cerr << "note: --complete needs the cloud's points; a saved skeleton is modelled as it is\n";
+    modeling::fit_radii(skeleton, cloud ? &*cloud : nullptr, radii, &radius_stats);
   } catch (const InputError& e) {
     throw InputError(s.input + ": " + e.what());
   }
@@ -169,6 +173,12 @@ int run(Settings& s) {
                 {"reliable_nodes", radius_stats.reliable},
                 {"from_stored_radii", radius_stats.used_stored},
                 {"exponent", s.radii.exponent}};
+  const CompleteStats& grafted = radius_stats.completion;
+  j["completion"] = {{"run", s.radii.complete && cloud.has_value()},
+                     {"uncovered_points", grafted.uncovered_points},
+                     {"grafted_points", grafted.grafted_points},
+                     {"branches", grafted.branches},
+                     {"nodes", grafted.nodes}};
   j["mesh"] = {{"vertices", check.vertices},
                {"triangles", check.faces},
                {"closed", check.boundary_edges == 0},
@@ -226,7 +236,10 @@ int run(Settings& s) {
   } else if (!s.quiet) {
     std::cout << fs::path(s.input).filename().string() << ": ";
     if (cloud) std::cout << cloud->size() << " points, ";
-    std::cout << skeleton.node_count() << " nodes, " << check.faces << " triangles ("
+    std::cout << skeleton.node_count() << " nodes, ";
+    if (grafted.nodes > 0)
+      std::cout << grafted.branches << " branches grown through " << grafted.grafted_points << " points it passed by, ";
+    std::cout << check.faces << " triangles ("
               << (!check.ok()              ? check.problem()
                   : s.sweep.repair         ? std::string("closed, manifold, no self-intersection")
                                            : std::string("closed, manifold; self-intersections not checked"))

@@ -37,6 +37,11 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
              "uniting them with the tree (much faster on crowded crowns; the summary says how much of the skeleton "
              "is then missing)")
       ->group(g);
+  c.add_flag("--complete", r.complete,
+             "Grow branches through the points the model's tubes would pass by by more than an octree cell (crowded "
+             "or sparsely scanned crowns: the mesh then reaches them), and fit the radii again; slower where the new "
+             "twigs cross others, and it needs a cloud, not a saved skeleton")
+      ->group(g);
   c.add_flag("--local", s.local,
              "Write the mesh in the local frame (the input's frame less the offset the report gives) in every format. "
              "By default OBJ holds the input's frame in double precision, glTF local vertices under a root node "

@@ -52,6 +52,7 @@ struct PySkeleton {
   Skeleton skeleton;
   std::shared_ptr<const Cloud> cloud;
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  double cell_size = 0.0;  ///< the octree cell size it was extracted with (0: read from a file)
 };
 
 struct Mesh {
@@ -181,8 +182,10 @@ PySkeleton extract(const py::object& points, const Options& o) {
   out.up = options.root.up;
   {
     py::gil_scoped_release free;
-    out.skeleton = out.cloud->source.empty() ? extract_skeleton(out.cloud->cloud, options)
-                                             : cli::extract_skeleton_of(out.cloud->source, out.cloud->cloud, options, nullptr);
+    SkeletonStats stats;
+    out.skeleton = out.cloud->source.empty() ? extract_skeleton(out.cloud->cloud, options, &stats)
+                                             : cli::extract_skeleton_of(out.cloud->source, out.cloud->cloud, options, &stats);
+    out.cell_size = stats.cell_size;
   }
   return out;
 }
@@ -190,7 +193,9 @@ PySkeleton extract(const py::object& points, const Options& o) {
 PySkeleton with_radii(const PySkeleton& in, const Options& o) {
   PySkeleton out = in;
   py::gil_scoped_release free;
-  modeling::fit_radii(out.skeleton, out.cloud ? &out.cloud->cloud : nullptr, o.model.radii);
+  modeling::RadiusOptions radii = o.model.radii;
+  radii.cell_size = in.cell_size;
+  modeling::fit_radii(out.skeleton, out.cloud ? &out.cloud->cloud : nullptr, radii);
   return out;
 }
 
@@ -384,7 +389,8 @@ PYBIND11_MODULE(_treeskel, m) {
     return std::make_shared<PySkeleton>(with_radii(*s, o));
   }, py::arg("skeleton"),
         "A copy of the skeleton with radii by the pipe model, fitted to its cloud's points where it has "
-        "one; keyword arguments: exponent, tip_weight, fit_points");
+        "one; keyword arguments: exponent, tip_weight, fit_points, complete (grow branches through the "
+        "points the fitted tubes pass by, as `treeskel model --complete`)");
 
   m.def("tree_mesh", [](const std::shared_ptr<PySkeleton>& s, const py::kwargs& kwargs) {
     const Options o = parse_options(kwargs, false, true, "tree_mesh");

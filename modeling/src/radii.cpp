@@ -190,7 +190,9 @@ std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, cons
   return out;
 }
 
-void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options, RadiusStats* stats) {
+namespace {
+
+void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options, RadiusStats* stats) {
   if (!(options.exponent >= 1.0 && options.exponent <= 4.0))
     throw OptionError("the Leonardo exponent must be between 1 and 4");
   if (options.start_share <= 0.0 || options.start_share > 1.0) throw OptionError("the start share must be in (0, 1]");
@@ -348,6 +350,19 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
   }
   for (NodeId v = 0; v < n; ++v) g[v].radius = std::pow(area[v], 1.0 / e);
   if (stats) *stats = local;
+}
+
+}  // namespace
+
+void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options, RadiusStats* stats) {
+  const bool complete = options.complete && cloud != nullptr;
+  if (complete && !(options.cell_size > 0.0))
+    throw OptionError("completing the skeleton needs the octree cell size it was extracted with");
+  fit_radii_once(skeleton, cloud, options, stats);
+  if (!complete) return;
+  const CompleteStats grafted = complete_skeleton(skeleton, *cloud, options.cell_size, options.completion);
+  if (grafted.nodes > 0) fit_radii_once(skeleton, cloud, options, stats);
+  if (stats) stats->completion = grafted;
 }
 
 }  // namespace treeskel::modeling

@@ -53,6 +53,17 @@ def test_model_equals_the_commands(exe, data, tmp_path):
     assert np.array_equal(skeleton.radii, treeskel.fit_radii(skeleton, exponent=2.2).radii)
 
 
+def test_complete_equals_the_commands(exe, data, tmp_path):
+    cloud = str(data / "tree_adtree1.xyz")
+    skeleton, mesh, _ = treeskel.model(cloud, complete=True)
+    mesh.save(str(tmp_path / "py.ply"), local=True)
+    run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", "--complete", "-q")
+    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    plain = treeskel.fit_radii(treeskel.extract_skeleton(cloud))
+    assert len(skeleton) > len(plain)  # the grown branches
+    assert len(treeskel.fit_radii(treeskel.extract_skeleton(cloud), complete=True)) == len(skeleton)
+
+
 def test_bad_input_raises_value_error_with_the_message(tmp_path):
     with pytest.raises(ValueError, match=r"\(N, 3\) array.*got shape \(5, 2\)"):
         treeskel.extract_skeleton(np.zeros((5, 2)))

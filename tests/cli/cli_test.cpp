@@ -215,6 +215,37 @@ TEST(Cli, ModelOfACrowdedCrownHoldsTheWholeSkeletonInTheFile) {
   EXPECT_TRUE(check.ok()) << check.problem();
 }
 
+// --complete grows branches through the points the model passed by (AdTree's tree1 has a crowded
+// crown), says so in the summary and the report, and the mesh still passes every check; a saved
+// skeleton has no points to grow through, which a note says.
+TEST(Cli, ModelCompleteGrowsBranchesThroughThePointsItPassedBy) {
+  test::TempDir dir;
+  const std::string cloud = test::data_file("tree_adtree1.xyz");
+  const Result plain = run("model " + cloud + " -o plain.ply --json --skeleton s.json", dir.root());
+  ASSERT_EQ(plain.code, 0) << plain.out;
+  const auto before = nlohmann::json::parse(plain.out);
+  EXPECT_FALSE(before["completion"]["run"].get<bool>());
+  EXPECT_EQ(before["completion"]["nodes"].get<int>(), 0);
+  const Result r = run("model " + cloud + " --complete -o tree.ply --report report.json", dir.root());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("branches grown through"), std::string::npos) << r.out;
+  std::ifstream in(dir.path("report.json"));
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_TRUE(j["completion"]["run"].get<bool>());
+  EXPECT_GT(j["completion"]["branches"].get<int>(), 10);
+  EXPECT_GT(j["completion"]["grafted_points"].get<int>(), 500);
+  EXPECT_LE(j["completion"]["grafted_points"].get<int>(), j["completion"]["uncovered_points"].get<int>());
+  EXPECT_EQ(j["nodes"].get<int>(), before["nodes"].get<int>() + j["completion"]["nodes"].get<int>());
+  EXPECT_TRUE(j["mesh"]["closed"].get<bool>());
+  EXPECT_EQ(j["mesh"]["self_intersections"].get<int>(), 0);
+  EXPECT_GE(j["mesh"]["skeleton_coverage"].get<double>(), 0.95);
+  const modeling::MeshCheck check = modeling::check_mesh(io::read_mesh(dir.path("tree.ply")), true);
+  EXPECT_TRUE(check.ok()) << check.problem();
+  const Result saved = run("model s.json --complete -o again.ply", dir.root());
+  ASSERT_EQ(saved.code, 0) << saved.out;
+  EXPECT_NE(saved.out.find("--complete needs the cloud's points"), std::string::npos) << saved.out;
+}
+
 // A Y-up cloud modeled as Z-up, and the same cloud in millimetres, are warned about.
 TEST(Cli, ModelWarnsAboutAnUpAxisOrUnitsThatLookWrong) {
   test::TempDir dir;

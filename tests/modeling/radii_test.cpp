@@ -154,5 +154,41 @@ TEST(FitRadii, RefusesBadInput) {
   EXPECT_THROW(fit_radii(s, nullptr, o), OptionError);
 }
 
+// With `complete`, a twig whose points the skeleton passed by becomes a branch, and the radii are
+// fitted again with it: the pipe model holds at the new fork. Without the cell size it is refused.
+TEST(FitRadii, CompletingGrowsATwigAndFitsItsRadii) {
+  Skeleton s = test::straight(2.0, 0.05, 20);
+  PointCloud cloud;
+  for (int ring = 0; ring <= 100; ++ring)
+    for (int k = 0; k < 24; ++k) {
+      const double a = 2.0 * 3.14159265358979323846 * k / 24.0;
+      cloud.positions.emplace_back(0.05 * std::cos(a), 0.05 * std::sin(a), 0.02 * ring);
+    }
+  for (int i = 0; i <= 40; ++i) {  // a twig from the trunk at z = 1 out to x = 0.6, two points a step
+    const Eigen::Vector3d at = Eigen::Vector3d(0.05, 0, 1.0) + Eigen::Vector3d(0.55, 0, 0.3) * (i / 40.0);
+    cloud.positions.push_back(at + Eigen::Vector3d(0, 0.01, 0));
+    cloud.positions.push_back(at - Eigen::Vector3d(0, 0.01, 0));
+  }
+  for (std::uint32_t p = 0; p < cloud.size(); ++p) {  // every point to the node nearest to it
+    NodeId best = 0;
+    for (NodeId v = 1; v < s.node_count(); ++v)
+      if ((s[v].position - cloud.positions[p]).norm() < (s[best].position - cloud.positions[p]).norm()) best = v;
+    s[best].points.push_back(p);
+  }
+  RadiusOptions o;
+  o.complete = true;
+  Skeleton unscaled = s;
+  EXPECT_THROW(fit_radii(unscaled, &cloud, o), OptionError);
+  o.cell_size = 0.03;
+  RadiusStats stats;
+  fit_radii(s, &cloud, o, &stats);
+  EXPECT_EQ(stats.completion.branches, 1u);
+  EXPECT_EQ(s.node_count(), 21 + stats.completion.nodes);
+  EXPECT_EQ(validate(s, cloud.size()), "");
+  expect_pipe_model(s, 2.0);
+  // The trunk keeps its measured radius.
+  EXPECT_NEAR(s[s.root].radius, 0.05, 0.01);
+}
+
 }  // namespace
 }  // namespace treeskel::modeling

@@ -3,6 +3,7 @@
 /// model (Leonardo da Vinci's rule: the cross section of a branch equals the sum of its children's).
 #pragma once
 
+#include "treeskel/complete.h"
 #include "treeskel/point_cloud.h"
 #include "treeskel/skeleton.h"
 
@@ -48,6 +49,12 @@ struct RadiusOptions {
   double start_share = 0.34;
   /// Nodes on each side of a node averaged when the taper along a chain is smoothed.
   int smoothing = 3;
+  /// After fitting, grow branches through the points that the fitted tubes leave more than a margin
+  /// outside (`complete_skeleton`), then fit again: a model that reaches the parts of a crowded or
+  /// sparse crown the skeleton passes by. Needs the cloud and `cell_size`.
+  bool complete = false;
+  CompleteOptions completion;  ///< its automatic (0) scales follow `cell_size`
+  double cell_size = 0.0;      ///< the octree cell size the skeleton was extracted with
 };
 
 /// Whether a circle fit is reliable enough to steer the radii: a radius, an rms residual within
@@ -59,6 +66,7 @@ struct RadiusStats {
   std::size_t measured = 0;  ///< nodes with a circle fit
   std::size_t reliable = 0;  ///< of them, fits reliable enough to steer the radii
   bool used_stored = false;  ///< no cloud points: the skeleton's own radii were taken as measurements
+  CompleteStats completion;  ///< what `complete` grafted (zeros when it did not run)
 };
 
 /// Least-squares circle fit of one node's points in the plane across its branch; see
@@ -81,9 +89,10 @@ std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, cons
 ///   scaled per branch by the reliable measurements: measured values win where they are reliable,
 ///   the rule fills in twigs and occluded parts.
 /// Without a cloud (`cloud == nullptr`, e.g. a skeleton read from a file) the skeleton's own radii
-/// are the measurements.
+/// are the measurements. With `options.complete` and a cloud, the skeleton gains the grafted
+/// branches (see `RadiusOptions::complete`) and every radius is fitted again with them.
 /// @throws InputError when the skeleton is empty or not a tree, or nothing gives a positive radius.
-/// @throws OptionError for an exponent outside [1, 4].
+/// @throws OptionError for an exponent outside [1, 4], or `complete` with a cloud but no cell size.
 void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options = {},
                RadiusStats* stats = nullptr);
 

@@ -1,0 +1,153 @@
+#include "treeskel/complete.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace treeskel {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A vertical trunk from z = 0 to 2 as a skeleton of 21 nodes of radius `radius`, with the points of
+/// its bark (rings every 0.02, 24 points each, seeded noise) shared among its nodes by height.
+struct Trunk {
+  PointCloud cloud;
+  Skeleton skeleton;
+  std::size_t bark = 0;  ///< points of the bark, first in the cloud
+};
+
+Trunk trunk(double radius) {
+  Trunk t;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> noise(-0.002, 0.002);
+  for (int ring = 0; ring <= 100; ++ring)
+    for (int k = 0; k < 24; ++k) {
+      const double a = 2.0 * kPi * k / 24.0;
+      t.cloud.positions.emplace_back(radius * std::cos(a) + noise(random), radius * std::sin(a) + noise(random), 0.02 * ring);
+    }
+  t.bark = t.cloud.size();
+  for (int i = 0; i <= 20; ++i) {
+    SkeletonNode node;
+    node.position = {0.0, 0.0, 0.1 * i};
+    node.radius = radius;
+    add_node(t.skeleton, node);
+    if (i > 0) boost::add_edge(static_cast<NodeId>(i - 1), static_cast<NodeId>(i), t.skeleton.graph);
+  }
+  return t;
+}
+
+/// Gives every point of `cloud` from `first` on to the skeleton node nearest to it.
+void share_points(Trunk& t, std::size_t first) {
+  for (std::size_t p = first; p < t.cloud.size(); ++p) {
+    NodeId best = 0;
+    for (NodeId v = 1; v < t.skeleton.node_count(); ++v)
+      if ((t.skeleton[v].position - t.cloud.positions[p]).norm() < (t.skeleton[best].position - t.cloud.positions[p]).norm())
+        best = v;
+    t.skeleton[best].points.push_back(static_cast<std::uint32_t>(p));
+  }
+}
+
+/// Adds the points of a twig: from `from` to `to`, one every `step`, each with a seeded jitter.
+void add_twig(PointCloud& cloud, const Eigen::Vector3d& from, const Eigen::Vector3d& to, double step) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> jitter(-0.003, 0.003);
+  const int count = static_cast<int>(std::round((to - from).norm() / step));
+  for (int i = 0; i <= count; ++i)
+    cloud.positions.push_back(from + (to - from) * (static_cast<double>(i) / count) +
+                              Eigen::Vector3d(jitter(random), jitter(random), jitter(random)));
+}
+
+// A twig the skeleton passed by (its points were given to the trunk's nodes) becomes a branch of its
+// own that reaches its tip, hangs from the trunk where it leaves it, and holds the points that lay
+// outside the trunk; the bark stays with the trunk, and the skeleton stays one tree.
+TEST(Complete, GrowsABranchThroughATwigTheSkeletonPassedBy) {
+  Trunk t = trunk(0.05);
+  add_twig(t.cloud, {0.05, 0, 1.0}, {0.6, 0, 1.3}, 0.02);
+  share_points(t, 0);
+  const std::size_t n = t.cloud.size();
+  const CompleteStats stats = complete_skeleton(t.skeleton, t.cloud, 0.03);
+  EXPECT_EQ(validate(t.skeleton, n), "");
+  EXPECT_TRUE(is_tree(t.skeleton.graph));
+  EXPECT_EQ(stats.branches, 1u);
+  EXPECT_EQ(stats.nodes, t.skeleton.node_count() - 21);
+  EXPECT_GE(stats.nodes, 8u);  // a node per two cells of path length along a twig 0.63 long
+  std::size_t tips = 0;  // one chain, not two interleaved ones
+  for (NodeId v = 21; v < t.skeleton.node_count(); ++v) tips += boost::degree(v, t.skeleton.graph) == 1;
+  EXPECT_EQ(tips, 1u);
+  // Every twig point more than a cell outside the trunk (0.05 + 0.03 from the axis) is held by a new
+  // node, with at most the first one (its path alone in the first band: a tuft too small to graft).
+  EXPECT_LE(stats.grafted_points, stats.uncovered_points);
+  EXPECT_GE(stats.grafted_points + 1, stats.uncovered_points);
+  for (NodeId v = 0; v < t.skeleton.node_count(); ++v)
+    for (auto p : t.skeleton[v].points) {
+      if (v < 21) EXPECT_LT(t.cloud.positions[p].x(), 0.09) << p;  // the bark and the twig's base
+      else EXPECT_GT(t.cloud.positions[p].x(), 0.08) << p;
+    }
+  // The farthest new node is at the tip, and the branch leaves the trunk near z = 1.
+  double reach = 0.0;
+  NodeId base = 0;
+  for (NodeId v = 21; v < t.skeleton.node_count(); ++v) {
+    reach = std::max(reach, t.skeleton[v].position.x());
+    for (auto [a, end] = boost::adjacent_vertices(v, t.skeleton.graph); a != end; ++a)
+      if (*a < 21) base = *a;
+  }
+  EXPECT_NEAR(reach, 0.6, 0.02);
+  EXPECT_NEAR(t.skeleton[base].position.z(), 1.0, 0.11);
+}
+
+// A thick trunk's bark lies a radius from the axis, and is covered: nothing changes.
+TEST(Complete, LeavesPointsWithinTheRadiusAlone) {
+  Trunk t = trunk(0.3);
+  share_points(t, 0);
+  const Skeleton before = t.skeleton;
+  const CompleteStats stats = complete_skeleton(t.skeleton, t.cloud, 0.03);
+  EXPECT_EQ(stats.uncovered_points, 0u);
+  EXPECT_EQ(stats.nodes, 0u);
+  EXPECT_EQ(t.skeleton.node_count(), before.node_count());
+  for (NodeId v = 0; v < before.node_count(); ++v) EXPECT_EQ(t.skeleton[v].points, before[v].points);
+}
+
+// A tuft of fewer points than `min_points` is no branch: its points stay with the node that held
+// them, and points with no path to the covered ones (farther than `link`) stay too.
+TEST(Complete, LeavesSmallTuftsAndUnreachablePointsWhereTheyWere) {
+  Trunk t = trunk(0.05);
+  add_twig(t.cloud, {0.10, 0, 0.5}, {0.14, 0, 0.5}, 0.02);  // three points
+  add_twig(t.cloud, {1.0, 0, 1.5}, {1.4, 0, 1.5}, 0.02);    // 21 points, 0.95 from the trunk
+  share_points(t, 0);
+  const Skeleton before = t.skeleton;
+  const CompleteStats stats = complete_skeleton(t.skeleton, t.cloud, 0.03);
+  EXPECT_EQ(stats.uncovered_points, 24u);
+  EXPECT_EQ(stats.nodes, 0u);
+  for (NodeId v = 0; v < before.node_count(); ++v) EXPECT_EQ(t.skeleton[v].points, before[v].points);
+  CompleteOptions fewer;
+  fewer.min_points = 3;
+  EXPECT_EQ(complete_skeleton(t.skeleton, t.cloud, 0.03, fewer).branches, 1u);
+  EXPECT_EQ(validate(t.skeleton, t.cloud.size()), "");
+}
+
+// The same input gives the same skeleton on one thread and on all of them.
+TEST(Complete, IsTheSameOnOneThreadAndOnMany) {
+  Trunk t = trunk(0.05);
+  add_twig(t.cloud, {0.05, 0, 1.0}, {0.6, 0, 1.3}, 0.01);
+  add_twig(t.cloud, {-0.05, 0, 1.4}, {-0.5, 0.2, 1.9}, 0.01);
+  share_points(t, 0);
+  Skeleton many = t.skeleton, one = t.skeleton;
+  complete_skeleton(many, t.cloud, 0.02);
+  {
+    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+    complete_skeleton(one, t.cloud, 0.02);
+  }
+  ASSERT_EQ(many.node_count(), one.node_count());
+  EXPECT_GT(many.node_count(), 21u);
+  for (NodeId v = 0; v < many.node_count(); ++v) {
+    EXPECT_EQ(many[v].position, one[v].position);
+    EXPECT_EQ(many[v].points, one[v].points);
+  }
+}
+
+}  // namespace
+}  // namespace treeskel
