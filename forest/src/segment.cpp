@@ -4,14 +4,9 @@
 
 #include "treeskel/error.h"
 #include "treeskel/geodesic.h"
+#include "treeskel/kd_search.h"
 #include "treeskel/neighbour_graph.h"
 
-#include <CGAL/Kd_tree.h>
-#include <CGAL/Orthogonal_k_neighbor_search.h>
-#include <CGAL/Search_traits_3.h>
-#include <CGAL/Search_traits_adapter.h>
-#include <CGAL/Simple_cartesian.h>
-#include <CGAL/property_map.h>
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -31,12 +26,11 @@ using detail::Voxels;
 using detail::make_voxels;
 using detail::voxel_graph;
 
-using Kernel = CGAL::Simple_cartesian<double>;
-using Point = Kernel::Point_3;
-using PointMap = CGAL::Pointer_property_map<Point>::type;
-using Traits = CGAL::Search_traits_adapter<std::uint32_t, PointMap, CGAL::Search_traits_3<Kernel>>;
-using Nearest = CGAL::Orthogonal_k_neighbor_search<Traits>;
-using KdTree = Nearest::Tree;
+using kd::Point;
+using kd::PointMap;
+using kd::Traits;
+using Nearest = kd::KnnSearch;
+using KdTree = kd::Tree;
 
 /// The stems by plan cells at least as wide as the widest stem's circle plus the margin, to find the
 /// stem whose circle (plus the margin) holds a point without trying every stem.

@@ -2,14 +2,10 @@
 
 #include "treeskel/disjoint_sets.h"
 #include "treeskel/error.h"
+#include "treeskel/kd_search.h"
 
 #include <CGAL/Kd_tree.h>
 #include <CGAL/Orthogonal_incremental_neighbor_search.h>
-#include <CGAL/Orthogonal_k_neighbor_search.h>
-#include <CGAL/Search_traits_3.h>
-#include <CGAL/Search_traits_adapter.h>
-#include <CGAL/Simple_cartesian.h>
-#include <CGAL/property_map.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -22,12 +18,11 @@ namespace treeskel {
 
 namespace {
 
-using Kernel = CGAL::Simple_cartesian<double>;
-using Point = Kernel::Point_3;
-using PointMap = CGAL::Pointer_property_map<Point>::type;
-using Traits = CGAL::Search_traits_adapter<std::uint32_t, PointMap, CGAL::Search_traits_3<Kernel>>;
-using KnnSearch = CGAL::Orthogonal_k_neighbor_search<Traits>;
-using Tree = KnnSearch::Tree;
+using kd::KnnSearch;
+using kd::Point;
+using kd::PointMap;
+using kd::Traits;
+using kd::Tree;
 using IncrementalSearch = CGAL::Orthogonal_incremental_neighbor_search<Traits>;
 
 /// Kd-tree over the cell medians, indexed by cell id.
