@@ -13,17 +13,22 @@ void expect_valid(const TreeMesh& mesh) {
   EXPECT_TRUE(c.ok()) << c.problem();
 }
 
+/// The mesh of a limb from the trunk's axis at height `z` to `to`, 0.04 thick at its start.
+TreeMesh limb(double z, const Eigen::Vector3d& to) {
+  Skeleton s;
+  SkeletonNode a;
+  a.position = Eigen::Vector3d(0, 0, z);
+  a.radius = 0.04;
+  s.root = add_node(s, a);
+  test::add_run(s, s.root, to, 0.03, 10);
+  return sweep_mesh(s);
+}
+
 // A piece of a tree swept apart is united with the rest: a limb set beside a trunk whose join
 // cannot take it still ends up in one closed mesh with the trunk.
 TEST(MeshUnion, KeepsEveryPieceInOneMesh) {
   const TreeMesh trunk = sweep_mesh(test::straight(2.0, 0.1, 20));
-  Skeleton limb;
-  SkeletonNode a;
-  a.position = Eigen::Vector3d(0, 0, 1);
-  a.radius = 0.04;
-  limb.root = add_node(limb, a);
-  test::add_run(limb, limb.root, Eigen::Vector3d(1, 0, 1.5), 0.03, 10);
-  const TreeMesh piece = sweep_mesh(limb);
+  const TreeMesh piece = limb(1.0, Eigen::Vector3d(1, 0, 1.5));
   const auto united = detail::unite(trunk, {piece}, 1e-6 * 2.0);
   EXPECT_EQ(united.united, 1u);
   EXPECT_EQ(united.failed, 0u);
@@ -37,15 +42,6 @@ TEST(MeshUnion, KeepsEveryPieceInOneMesh) {
 // corefinement: one closed mesh.
 TEST(MeshUnion, PiecesThatCrossAreUnitedTogetherFirst) {
   const TreeMesh trunk = sweep_mesh(test::straight(2.0, 0.1, 20));
-  auto limb = [](double z, const Eigen::Vector3d& to) {
-    Skeleton s;
-    SkeletonNode a;
-    a.position = Eigen::Vector3d(0, 0, z);
-    a.radius = 0.04;
-    s.root = add_node(s, a);
-    test::add_run(s, s.root, to, 0.03, 10);
-    return sweep_mesh(s);
-  };
   const TreeMesh low = limb(0.8, Eigen::Vector3d(1, 0, 1.6));
   const TreeMesh high = limb(1.6, Eigen::Vector3d(1, 0, 0.8));  // crosses `low` at x = 0.5
   const TreeMesh apart = limb(1.0, Eigen::Vector3d(-1, 0, 1.2));
@@ -96,15 +92,6 @@ TEST(MeshUnion, PiecesApartStayAsTheirOwnComponents) {
 // crosses it through the trunk was refused too (or CGAL crashed).
 TEST(MeshUnion, ARefusedPieceDoesNotSpoilTheUnionsAfterIt) {
   const TreeMesh trunk = sweep_mesh(test::straight(2.0, 0.1, 20));
-  auto limb = [](double z, const Eigen::Vector3d& to) {
-    Skeleton s;
-    SkeletonNode a;
-    a.position = Eigen::Vector3d(0, 0, z);
-    a.radius = 0.04;
-    s.root = add_node(s, a);
-    test::add_run(s, s.root, to, 0.03, 10);
-    return sweep_mesh(s);
-  };
   TreeMesh open = limb(0.8, Eigen::Vector3d(1, 0, 1.6));
   open.request_face_status();
   open.request_edge_status();
