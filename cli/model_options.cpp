@@ -38,9 +38,10 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
              "is then missing)")
       ->group(g);
   c.add_flag("--complete", r.complete,
-             "Grow branches through the points the model's tubes would pass by by more than an octree cell (crowded "
-             "or sparsely scanned crowns: the mesh then reaches them), and fit the radii again; slower where the new "
-             "twigs cross others, and it needs a cloud, not a saved skeleton")
+             "Grow branches through the points that lie more than an octree cell outside the model's tubes (crowded "
+             "or sparsely scanned crowns: the mesh then reaches them), and fit the radii again. Off by default: "
+             "slower where the new twigs cross others, and on leafy or noisy clouds leaves and noise become twigs "
+             "(docs/models.md). Needs a cloud, not a saved skeleton")
       ->group(g);
   c.add_flag("--local", s.local,
              "Write the mesh in the local frame (the input's frame less the offset the report gives) in every format. "
