@@ -6,7 +6,6 @@
 #include "treeskel/l1_median.h"
 #include "treeskel/level_sets.h"
 
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -60,10 +59,9 @@ public:
 
   /// The node nearest to `p` among the ends of the edges near it.
   NodeId nearest_node(const Skeleton& skeleton, const Eigen::Vector3d& p) const {
-    KnnSearch search(*tree_, Point(p.x(), p.y(), p.z()), 8, 0.0, true, Distance(PointMap(const_cast<Point*>(samples_.data()))));
     NodeId best = 0;
     double best_d = std::numeric_limits<double>::infinity();
-    for (const auto& [id, d2] : search)
+    for (const auto& [id, d2] : near_samples(p))
       for (NodeId v : {edges_[id].first, edges_[id].second}) {
         const double d = (skeleton[v].position - p).norm();
         if (d < best_d || (d == best_d && v < best)) {
@@ -77,9 +75,8 @@ public:
   /// The least distance outside the tubes of the edges near `p`.
   double outside(const Skeleton& skeleton, const Eigen::Vector3d& p) const {
     if (samples_.empty()) return std::numeric_limits<double>::infinity();
-    KnnSearch search(*tree_, Point(p.x(), p.y(), p.z()), 8, 0.0, true, Distance(PointMap(const_cast<Point*>(samples_.data()))));
     double best = std::numeric_limits<double>::infinity();
-    for (const auto& [id, d2] : search) best = std::min(best, outside_edge(skeleton, p, edges_[id].first, edges_[id].second));
+    for (const auto& [id, d2] : near_samples(p)) best = std::min(best, outside_edge(skeleton, p, edges_[id].first, edges_[id].second));
     return best;
   }
 
@@ -90,6 +87,12 @@ private:
   using KnnSearch = kd::KnnSearch;
   using Distance = KnnSearch::Distance;
   using Tree = kd::Tree;
+
+  /// The 8 edge samples nearest to `p`.
+  KnnSearch near_samples(const Eigen::Vector3d& p) const {
+    return KnnSearch(*tree_, Point(p.x(), p.y(), p.z()), 8, 0.0, true, Distance(PointMap(const_cast<Point*>(samples_.data()))));
+  }
+
   std::vector<Point> samples_;
   std::vector<std::pair<NodeId, NodeId>> edges_;
   std::unique_ptr<Tree> tree_;
@@ -101,6 +104,14 @@ std::uint64_t grid_key(const Eigen::Vector3d& p, double size, int dx = 0, int dy
     return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / size)) + d + (1 << 20)) & 0x1fffffu;
   };
   return axis(p.x(), dx) | (axis(p.y(), dy) << 21) | (axis(p.z(), dz) << 42);
+}
+
+/// Calls `visit(key)` for the grid cell of `p` and its 26 neighbours.
+template <class Visit>
+void for_cells_around(const Eigen::Vector3d& p, double size, Visit&& visit) {
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz) visit(grid_key(p, size, dx, dy, dz));
 }
 
 }  // namespace
@@ -148,16 +159,14 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;  // key -> positions in `lost`
   for (std::uint32_t i = 0; i < lost.size(); ++i) grid[grid_key(cloud.positions[lost[i]], link)].push_back(i);
   auto for_near = [&](const Eigen::Vector3d& x, auto&& visit) {
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = grid.find(grid_key(x, link, dx, dy, dz));
-          if (it == grid.end()) continue;
-          for (auto j : it->second) {
-            const double d = (cloud.positions[lost[j]] - x).norm();
-            if (d <= link) visit(j, d);
-          }
-        }
+    for_cells_around(x, link, [&](std::uint64_t key) {
+      const auto it = grid.find(key);
+      if (it == grid.end()) return;
+      for (auto j : it->second) {
+        const double d = (cloud.positions[lost[j]] - x).norm();
+        if (d <= link) visit(j, d);
+      }
+    });
   };
   const std::size_t m = lost.size();
   std::vector<std::vector<std::pair<std::uint32_t, double>>> near(m);
@@ -165,24 +174,22 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
     for_near(cloud.positions[lost[i]], [&](std::uint32_t j, double d) {
       if (j != i && d > 0.0) near[i].emplace_back(j, d);  // repeats of one place are no step
     });
-  // Seeds: the shortest step from a covered point, and the node that holds that point.
+  // Seeds: the shortest step from a covered point. `seed_owner` is the node that holds the covered
+  // point a path starts from: it marks the seeded points and breaks ties between equal paths (the
+  // graft itself hangs from the node nearest to it, see step 5).
   std::vector<double> dist(m, std::numeric_limits<double>::infinity());
-  std::vector<std::uint32_t> attach(m, kNone), pred(m, kNone);
+  std::vector<std::uint32_t> seed_owner(m, kNone), pred(m, kNone);
   std::unordered_set<std::uint64_t> near_keys;
-  for (const auto& [key, members] : grid) {
-    const Eigen::Vector3d& x = cloud.positions[lost[members.front()]];
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) near_keys.insert(grid_key(x, link, dx, dy, dz));
-  }
+  for (const auto& [key, members] : grid)
+    for_cells_around(cloud.positions[lost[members.front()]], link, [&](std::uint64_t k) { near_keys.insert(k); });
   for (std::size_t p = 0; p < n; ++p) {
     if (uncovered[p] || owner[p] == kNone) continue;
     const Eigen::Vector3d& x = cloud.positions[p];
     if (!near_keys.count(grid_key(x, link))) continue;
     for_near(x, [&](std::uint32_t j, double d) {
-      if (d < dist[j] || (d == dist[j] && owner[p] < attach[j])) {
+      if (d < dist[j] || (d == dist[j] && owner[p] < seed_owner[j])) {
         dist[j] = d;
-        attach[j] = owner[p];
+        seed_owner[j] = owner[p];
       }
     });
   }
@@ -191,7 +198,7 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
   using Item = std::pair<double, std::uint32_t>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
   for (std::uint32_t i = 0; i < m; ++i)
-    if (attach[i] != kNone) queue.emplace(dist[i], i);
+    if (seed_owner[i] != kNone) queue.emplace(dist[i], i);
   std::vector<char> done(m, 0);
   while (!queue.empty()) {
     const auto [d, i] = queue.top();
@@ -200,9 +207,9 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
     done[i] = 1;
     for (const auto& [j, w] : near[i]) {
       const double nd = d + w;
-      if (!done[j] && (nd < dist[j] || (nd == dist[j] && attach[i] < attach[j]))) {
+      if (!done[j] && (nd < dist[j] || (nd == dist[j] && seed_owner[i] < seed_owner[j]))) {
         dist[j] = nd;
-        attach[j] = attach[i];
+        seed_owner[j] = seed_owner[i];
         pred[j] = i;
         queue.emplace(nd, j);
       }
