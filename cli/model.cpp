@@ -178,7 +178,9 @@ int run(Settings& s) {
                      {"uncovered_points", grafted.uncovered_points},
                      {"grafted_points", grafted.grafted_points},
                      {"branches", grafted.branches},
-                     {"nodes", grafted.nodes}};
+                     {"nodes", grafted.nodes},
+                     {"bushy_grafts", grafted.bushy_grafts},
+                     {"bushy_points", grafted.bushy_points}};
   j["mesh"] = {{"vertices", check.vertices},
                {"triangles", check.faces},
                {"closed", check.boundary_edges == 0},
@@ -238,7 +240,11 @@ int run(Settings& s) {
     if (cloud) std::cout << cloud->size() << " points, ";
     std::cout << skeleton.node_count() << " nodes, ";
     if (grafted.nodes > 0)
-      std::cout << grafted.branches << " branches grown through " << grafted.grafted_points << " points it passed by, ";
+      std::cout << grafted.branches << " branches grown through " << grafted.grafted_points << " points it passed by"
+                << (grafted.bushy_grafts > 0 ? " (not through " + std::to_string(grafted.bushy_points) + " in " +
+                                                   std::to_string(grafted.bushy_grafts) + " bushes)"
+                                             : std::string())
+                << ", ";
     std::cout << check.faces << " triangles ("
               << (!check.ok()              ? check.problem()
                   : s.sweep.repair         ? std::string("closed, manifold, no self-intersection")

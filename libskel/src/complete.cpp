@@ -121,6 +121,7 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
   CompleteStats stats;
   const double margin = options.margin > 0.0 ? options.margin : cell_size;
   const double link = options.link > 0.0 ? options.link : 2.0 * cell_size;
+  const double min_reach = options.min_reach > 0.0 ? options.min_reach : margin + link;
   // A path's step is at most `link` long, so with bands at least that wide a component's predecessor
   // lies in its own band or the one below: narrower bands let paths skip a band, and one twig became
   // two interleaved chains.
@@ -135,6 +136,7 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
   // 1. Uncovered points: outside every tube near them by more than the margin. The edges at a point's
   // own node decide most; the kd-tree of edge samples settles the rest.
   std::vector<char> uncovered(n, 0);
+  std::vector<double> outside(n, 0.0);  // of an uncovered point: how far outside the tubes it lies
   const EdgeIndex index(skeleton, std::max(cell_size * 0.5, 1e-12));
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes_before, 64), [&](const auto& range) {
     for (std::size_t v = range.begin(); v != range.end(); ++v) {
@@ -144,7 +146,11 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
         double out = (x - node.position).norm() - node.radius;
         for (auto [a, end] = boost::adjacent_vertices(v, skeleton.graph); a != end && out > margin; ++a)
           out = std::min(out, outside_edge(skeleton, x, v, *a));
-        if (out > margin && index.outside(skeleton, x) > margin) uncovered[p] = 1;
+        if (out > margin) out = std::min(out, index.outside(skeleton, x));
+        if (out > margin) {
+          uncovered[p] = 1;
+          outside[p] = out;
+        }
       }
     }
   });
@@ -259,12 +265,38 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
     graft_points[graft[k]] += members[k].size();
   }
 
+  // A graft that reaches no farther than `min_reach` outside the tubes is a tuft on the bark; one that
+  // forks into more components per band than `max_branching` is a bush. Neither is a branch.
+  std::vector<std::int64_t> lowest_level(comps.size(), std::numeric_limits<std::int64_t>::max()), highest_level(comps.size(), -1);
+  std::vector<std::size_t> graft_comps(comps.size(), 0);
+  std::vector<double> graft_reach(comps.size(), 0.0);
+  for (std::uint32_t k = 0; k < comps.size(); ++k) {
+    const auto g = graft[k];
+    const auto l = level[comps[k]];
+    lowest_level[g] = std::min(lowest_level[g], l);
+    highest_level[g] = std::max(highest_level[g], l);
+    ++graft_comps[g];
+    for (auto p : members[k]) graft_reach[g] = std::max(graft_reach[g], outside[p]);
+  }
+  auto bushy = [&](std::uint32_t g) {
+    const auto bands = static_cast<double>(highest_level[g] - lowest_level[g] + 1);
+    return options.max_branching > 0.0 && static_cast<double>(graft_comps[g]) > options.max_branching * bands;
+  };
+
   // 5. The grafts with enough points become nodes; their points leave the nodes that held them.
   std::vector<std::int64_t> node_of(comps.size(), -1);
   std::vector<char> moved(n, 0);
   std::vector<std::uint32_t> kept;
-  for (std::uint32_t k = 0; k < comps.size(); ++k)
-    if (graft_points[graft[k]] >= options.min_points) kept.push_back(k);
+  for (std::uint32_t k = 0; k < comps.size(); ++k) {
+    if (graft_points[graft[k]] < options.min_points) continue;
+    if (!(graft_reach[graft[k]] > min_reach)) continue;  // a tuft on the bark
+    if (bushy(graft[k])) {
+      if (graft[k] == k) ++stats.bushy_grafts;
+      stats.bushy_points += members[k].size();
+      continue;
+    }
+    kept.push_back(k);
+  }
   std::vector<SkeletonNode> made(kept.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kept.size(), 16), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {

@@ -232,9 +232,10 @@ TEST(Cli, ModelCompleteGrowsBranchesThroughThePointsItPassedBy) {
   std::ifstream in(dir.path("report.json"));
   const auto j = nlohmann::json::parse(in);
   EXPECT_TRUE(j["completion"]["run"].get<bool>());
-  EXPECT_GT(j["completion"]["branches"].get<int>(), 10);
-  EXPECT_GT(j["completion"]["grafted_points"].get<int>(), 500);
-  EXPECT_LE(j["completion"]["grafted_points"].get<int>(), j["completion"]["uncovered_points"].get<int>());
+  EXPECT_GE(j["completion"]["branches"].get<int>(), 3);
+  EXPECT_GT(j["completion"]["grafted_points"].get<int>(), 100);
+  EXPECT_LE(j["completion"]["grafted_points"].get<int>() + j["completion"]["bushy_points"].get<int>(),
+            j["completion"]["uncovered_points"].get<int>());
   EXPECT_EQ(j["nodes"].get<int>(), before["nodes"].get<int>() + j["completion"]["nodes"].get<int>());
   EXPECT_TRUE(j["mesh"]["closed"].get<bool>());
   EXPECT_EQ(j["mesh"]["self_intersections"].get<int>(), 0);

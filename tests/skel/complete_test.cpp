@@ -125,8 +125,74 @@ TEST(Complete, LeavesSmallTuftsAndUnreachablePointsWhereTheyWere) {
   for (NodeId v = 0; v < before.node_count(); ++v) EXPECT_EQ(t.skeleton[v].points, before[v].points);
   CompleteOptions fewer;
   fewer.min_points = 3;
+  fewer.min_reach = 0.05;  // the tuft reaches 0.09 outside the tube: not past the default, three cells
   EXPECT_EQ(complete_skeleton(t.skeleton, t.cloud, 0.03, fewer).branches, 1u);
   EXPECT_EQ(validate(t.skeleton, t.cloud.size()), "");
+}
+
+// Noise on the bark: points scattered up to two cells outside the tube along the whole trunk. They
+// are uncovered, and connected, but reach no farther than `min_reach` (three cells) outside the tube:
+// tufts, not branches, so nothing is grafted (with a smaller `min_reach` they would be).
+TEST(Complete, LeavesNoiseOnTheBarkAlone) {
+  Trunk t = trunk(0.05);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> out(0.09, 0.11), turn(0.0, 2.0 * kPi), along(0.2, 1.8);
+  for (int i = 0; i < 400; ++i) {
+    const double r = out(random), a = turn(random);
+    t.cloud.positions.emplace_back(r * std::cos(a), r * std::sin(a), along(random));
+  }
+  share_points(t, 0);
+  const Skeleton before = t.skeleton;
+  const CompleteStats stats = complete_skeleton(t.skeleton, t.cloud, 0.03);
+  EXPECT_GE(stats.uncovered_points, 390u);
+  EXPECT_EQ(stats.nodes, 0u);
+  for (NodeId v = 0; v < before.node_count(); ++v) EXPECT_EQ(t.skeleton[v].points, before[v].points);
+  CompleteOptions tufts;
+  tufts.min_reach = 0.035;
+  tufts.max_branching = 0.0;
+  EXPECT_GT(complete_skeleton(t.skeleton, t.cloud, 0.03, tufts).nodes, 0u);
+}
+
+/// Adds a bush: a stalk from `from` along +x, and at its end `spurs` short twigs splaying out in
+/// seeded random directions (like leaves, or noise, around the end of a twig).
+void add_bush(PointCloud& cloud, const Eigen::Vector3d& from, int spurs) {
+  const Eigen::Vector3d centre = from + Eigen::Vector3d(0.25, 0, 0);
+  add_twig(cloud, from, centre, 0.02);
+  std::mt19937 random(5);
+  std::normal_distribution<double> gauss;
+  for (int s = 0; s < spurs; ++s) {
+    const Eigen::Vector3d d = Eigen::Vector3d(gauss(random), gauss(random), gauss(random)).normalized();
+    add_twig(cloud, centre + 0.02 * d, centre + 0.15 * d, 0.02);
+  }
+}
+
+// A graft that splays into many short spurs is a bush (leaves or noise around a twig), not a
+// branch: with the default `max_branching` it is not added and its points stay where they were,
+// while a twig beside it is grafted; with no limit, the bush is grafted too.
+TEST(Complete, LeavesBushesOutAndGraftsTheTwigBesideThem) {
+  Trunk t = trunk(0.05);
+  add_twig(t.cloud, {-0.05, 0, 0.5}, {-0.6, 0, 0.8}, 0.02);
+  const std::size_t bush = t.cloud.size();
+  add_bush(t.cloud, {0.05, 0, 1.4}, 12);
+  share_points(t, 0);
+  Skeleton limited = t.skeleton;
+  const CompleteStats stats = complete_skeleton(limited, t.cloud, 0.03);
+  EXPECT_EQ(validate(limited, t.cloud.size()), "");
+  EXPECT_EQ(stats.branches, 1u);
+  EXPECT_EQ(stats.bushy_grafts, 1u);
+  EXPECT_GE(stats.bushy_points + 4, t.cloud.size() - bush);  // all of the bush but a few points by the trunk
+  EXPECT_EQ(stats.grafted_points + stats.bushy_points, stats.uncovered_points);  // nothing else is left
+  for (NodeId v = 21; v < limited.node_count(); ++v)
+    for (auto p : limited[v].points) EXPECT_LT(p, bush) << "a point of the bush is in a grafted node";
+
+  CompleteOptions unlimited;
+  unlimited.max_branching = 0.0;
+  Skeleton grown = t.skeleton;
+  const CompleteStats all = complete_skeleton(grown, t.cloud, 0.03, unlimited);
+  EXPECT_EQ(all.branches, 2u);
+  EXPECT_EQ(all.bushy_grafts, 0u);
+  EXPECT_EQ(validate(grown, t.cloud.size()), "");
+  EXPECT_TRUE(is_tree(grown.graph));
 }
 
 // The same input gives the same skeleton on one thread and on all of them.

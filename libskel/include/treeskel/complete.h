@@ -8,7 +8,9 @@
 /// and grows new branches through them: a shortest-path forest over those points, rooted where they
 /// touch the points the skeleton already covers, cut into level sets of its path length as the main
 /// skeleton is. Each grafted branch hangs from the skeleton node nearest to where it starts, so the
-/// result is still one tree, and every point still belongs to exactly one node.
+/// result is still one tree, and every point still belongs to exactly one node. Two kinds of graft are
+/// not branches and are not added: tufts that stay near the bark (noise) and bushes that fork into
+/// many components in every band (leaves and needles).
 #pragma once
 
 #include "treeskel/point_cloud.h"
@@ -31,6 +33,17 @@ struct CompleteOptions {
   /// A grafted branch (all that hangs from one skeleton node) with fewer points is not added; its
   /// points stay with the nodes that held them.
   std::size_t min_points = 4;
+  /// A graft whose farthest point lies no farther than this outside the tubes is a tuft on the bark
+  /// (scanner noise, or the bark of a branch fitted a little thin), not a branch: a twig there would
+  /// take a share of the pipe model from the branches (on the noisy synthetic clouds the models then
+  /// held an eighth less of the true skeleton). Its points stay where they were. 0 (default): the
+  /// margin plus the link distance (three octree cells).
+  double min_reach = 0.0;
+  /// A graft whose level sets hold more than this many components per band on average is a bush:
+  /// leaves, needles or noise around twigs, whose tubes would fill the crown and cross one another
+  /// (the union of TreeLS's spruce ran out of budget and its mesh held half the skeleton). It is not
+  /// added; its points stay with the nodes that held them. 0: no limit.
+  double max_branching = 2.0;
 };
 
 /// What `complete_skeleton` did.
@@ -39,6 +52,8 @@ struct CompleteStats {
   std::size_t grafted_points = 0;    ///< of those, the ones now held by grafted nodes
   std::size_t branches = 0;          ///< grafted branches (each hangs from one existing node)
   std::size_t nodes = 0;             ///< nodes added
+  std::size_t bushy_grafts = 0;      ///< grafts not added because they branch like a bush
+  std::size_t bushy_points = 0;      ///< the uncovered points of those grafts
 };
 
 /// Grows branches through the points the skeleton leaves uncovered (see the file comment). Node ids of
