@@ -111,7 +111,9 @@ int run(Settings& s) {
   modeling::SweepStats sweep_stats;
   modeling::TreeMesh mesh;
   try {
-    mesh = modeling::sweep_mesh(skeleton, s.sweep, &sweep_stats);
+    modeling::SweepOptions sweep = s.sweep;
+    sweep.local_floats = s.local || io::holds_local_floats(mesh_to);
+    mesh = modeling::sweep_mesh(skeleton, sweep, &sweep_stats);
   } catch (const InputError& e) {
     throw InputError(s.input + ": " + e.what());
   }

@@ -59,7 +59,8 @@ struct Mesh {
   modeling::TreeMesh mesh;
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-  std::shared_ptr<const PySkeleton> skeleton;  // for with_skeleton
+  std::shared_ptr<const PySkeleton> skeleton;  // for with_skeleton, and to sweep again for a file in other floats
+  modeling::SweepOptions options;               // what it was swept with
 };
 
 /// The options of the command line named by `kwargs`, parsed by the command line's own parser: the same
@@ -204,8 +205,10 @@ Mesh sweep(const std::shared_ptr<const PySkeleton>& s, const Options& o) {
   m.offset = s->skeleton.offset;
   m.up = s->up;
   m.skeleton = s;
+  m.options = o.model.sweep;
+  m.options.local_floats = o.model.local;
   py::gil_scoped_release free;
-  m.mesh = modeling::sweep_mesh(s->skeleton, o.model.sweep);
+  m.mesh = modeling::sweep_mesh(s->skeleton, m.options);
   return m;
 }
 
@@ -354,8 +357,18 @@ PYBIND11_MODULE(_treeskel, m) {
         frame.up = t.up;
         frame.local = local;
         py::gil_scoped_release free;
+        // The mesh was rounded to, and checked in, the floats of one frame; a file that holds the
+        // other's gets the mesh swept again in those, as `treeskel model` would have swept it.
+        const bool local_floats = local || io::holds_local_floats(path);
+        modeling::TreeMesh again;
+        if (local_floats != t.options.local_floats && !t.offset.isZero() && t.skeleton) {
+          modeling::SweepOptions options = t.options;
+          options.local_floats = local_floats;
+          again = modeling::sweep_mesh(t.skeleton->skeleton, options);
+        }
+        const modeling::TreeMesh& mesh = again.n_faces() > 0 ? again : t.mesh;
         save_whole(path, "path", [&](const std::filesystem::path& to) {
-          io::write_mesh(to, t.mesh, frame, with_skeleton && t.skeleton ? &t.skeleton->skeleton : nullptr);
+          io::write_mesh(to, mesh, frame, with_skeleton && t.skeleton ? &t.skeleton->skeleton : nullptr);
         });
       }, py::arg("path"), py::arg("local") = false, py::arg("with_skeleton") = false,
          "Writes the mesh (.glb .gltf .obj .ply .stl) as `treeskel model` does, whole or not at all")

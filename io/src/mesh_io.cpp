@@ -282,6 +282,11 @@ std::string with_root_translation(const std::string& data, bool binary, const Ei
 
 bool is_mesh_extension(const fs::path& path) { return formats().count(extension_of(path)) > 0; }
 
+bool holds_local_floats(const fs::path& path) {
+  const std::string ext = extension_of(path);
+  return ext == "gltf" || ext == "glb";
+}
+
 MeshPlacement write_mesh(const fs::path& path, const modeling::TreeMesh& mesh, const Eigen::Vector3d& offset,
                          const Skeleton* skeleton) {
   MeshFrame frame;

@@ -24,7 +24,13 @@ struct UnionResult {
 
 /// A local coordinate as the 32-bit float a file holds in the frame `offset` leads to (local +
 /// offset), as a double: where the union and its checks round the points.
-inline double file_float(double local, double offset) { return static_cast<double>(static_cast<float>(local + offset)); }
+/// The float goes through memory: GCC 12 at -O3 with -frounding-math (which CGAL needs) vectorized a
+/// loop of this over x, y and z and dropped the round trip through float for two of the three, so
+/// that the union's points, and the points the crossing tests ran on, were not what files hold.
+inline double file_float(double local, double offset) {
+  volatile float rounded = static_cast<float>(local + offset);
+  return static_cast<double>(rounded);
+}
 
 /// The box of the points of `mesh`.
 Eigen::AlignedBox3d bounding_box(const TreeMesh& mesh);

@@ -1027,7 +1027,8 @@ Eigen::Vector3d detail::file_frame(const Skeleton& skeleton) {
 TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, SweepStats* stats) {
   check_sweep_options(options);
   if (boost::num_vertices(skeleton.graph) < 2) throw InputError("the skeleton has no branch to sweep (a single node)");
-  return detail::sweep_in_frame(skeleton, options, detail::file_frame(skeleton), -1.0, stats);
+  const Eigen::Vector3d frame = options.local_floats ? Eigen::Vector3d::Zero() : detail::file_frame(skeleton);
+  return detail::sweep_in_frame(skeleton, options, frame, -1.0, stats);
 }
 
 TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,

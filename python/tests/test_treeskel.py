@@ -34,7 +34,8 @@ def test_skeleton_from_numpy_equals_the_commands(exe, data, tmp_path):
 
 
 def test_model_equals_the_commands(exe, data, tmp_path):
-    skeleton, mesh, measured = treeskel.model(str(data / "tree_rtwig.txt"), exponent=2.2)
+    # Swept in the floats of the local frame, as the command with --local sweeps it.
+    skeleton, mesh, measured = treeskel.model(str(data / "tree_rtwig.txt"), exponent=2.2, local=True)
     mesh.save(str(tmp_path / "py.ply"), local=True)
     report = tmp_path / "cli.json"
     run(exe, "model", data / "tree_rtwig.txt", "-o", tmp_path / "cli.ply", "--local", "--exponent", 2.2,
@@ -48,7 +49,7 @@ def test_model_equals_the_commands(exe, data, tmp_path):
     assert mesh.vertices.shape == (check["vertices"], 3)
     assert mesh.faces.max() < len(mesh.vertices)
     # The stages one at a time give the same as model().
-    again = treeskel.tree_mesh(treeskel.fit_radii(treeskel.extract_skeleton(treeskel.read_cloud(str(data / "tree_rtwig.txt"))), exponent=2.2))
+    again = treeskel.tree_mesh(treeskel.fit_radii(treeskel.extract_skeleton(treeskel.read_cloud(str(data / "tree_rtwig.txt"))), exponent=2.2), local=True)
     assert np.array_equal(again.faces, mesh.faces) and np.array_equal(again.vertices, mesh.vertices)
     assert np.array_equal(skeleton.radii, treeskel.fit_radii(skeleton, exponent=2.2).radii)
 

@@ -134,6 +134,44 @@ TEST(SweepMesh, BundledCloudsKeepTheirVerticesApartInFloat) {
   }
 }
 
+// glTF files (and every format with `model --local`) hold the local frame's floats: with
+// `local_floats` the united mesh is rounded to those floats and tested there, so the file holds the
+// mesh that was checked. By default it is rounded in the input's frame, whose floats differ.
+TEST(SweepMesh, LocalFloatsAreTheFloatsTheMeshIsRoundedTo) {
+  const Skeleton s = bundled_skeleton("tree_adtree1.xyz");
+  ASSERT_GT(s.offset.norm(), 1.0);  // the cloud is recentred: the two frames' floats differ
+  auto float_exact = [](const TreeMesh& mesh) {
+    std::size_t exact = 0;
+    for (const auto v : mesh.vertices()) {
+      const auto& p = mesh.point(v);
+      exact += double(float(p[0])) == p[0] && double(float(p[1])) == p[1] && double(float(p[2])) == p[2];
+    }
+    return exact;
+  };
+  SweepOptions local;
+  local.local_floats = true;
+  SweepStats stats;
+  const TreeMesh mesh = sweep_mesh(s, local, &stats);
+  ASSERT_GT(stats.pieces, 0u);  // the union ran, and rounded every vertex
+  expect_valid(mesh);
+  EXPECT_EQ(float_exact(mesh), mesh.n_vertices());
+  std::vector<TreeMesh::Point> floats;
+  for (const auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    floats.emplace_back(float(p[0]), float(p[1]), float(p[2]));
+  }
+  EXPECT_TRUE(self_intersecting_faces_at(mesh, floats).empty());
+  const TreeMesh input_frame = sweep_mesh(s, {});
+  EXPECT_LT(float_exact(input_frame), input_frame.n_vertices() / 2);
+  std::size_t world_exact = 0;
+  for (const auto v : input_frame.vertices()) {
+    const auto& p = input_frame.point(v);
+    const double w = p[0] + s.offset.x();
+    world_exact += double(float(w)) == w;
+  }
+  EXPECT_EQ(world_exact, input_frame.n_vertices());
+}
+
 // Two branches from different forks whose tubes run through each other: the repair thins the
 // thinner one (by what clears it, not step by step) until the mesh no longer intersects itself.
 TEST(SweepMesh, CrossingBranchesAreThinnedUntilTheyClear) {

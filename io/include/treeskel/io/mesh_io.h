@@ -17,6 +17,11 @@ namespace treeskel::io {
 /// True if `write_mesh` knows the extension of `path` (.obj .gltf .glb .ply .stl).
 bool is_mesh_extension(const std::filesystem::path& path);
 
+/// True if a mesh written to `path` holds the local frame's 32-bit floats whatever the frame asks
+/// (glTF: local vertices under a root node that places them), so that the mesh's checks must be made
+/// in those floats (`modeling::SweepOptions::local_floats`).
+bool holds_local_floats(const std::filesystem::path& path);
+
 /// Where a mesh file's coordinates are: the mesh is kept in a local frame (`world = local + offset`), so
 /// that a georeferenced tree (x around 300,000, y around 5,000,000) keeps millimetres in 32-bit floats.
 struct MeshFrame {

@@ -61,6 +61,12 @@ struct SweepOptions {
   bool unite_apart = true;
   /// Run the self-intersection test and the repair (costly on large trees).
   bool repair = true;
+  /// The file will hold the skeleton's local frame in 32-bit floats (glTF always; every format with
+  /// `model --local`): the union rounds its points to those floats and the crossings are tested in
+  /// them. Otherwise in the floats of the input's frame (of the local one for a georeferenced tree,
+  /// whose floats would round the input's frame): a mesh checked in one frame's floats can cross
+  /// itself once written in the other's (AdTree's tree13 with --complete: 6 face pairs in its --local PLY).
+  bool local_floats = false;
 };
 
 /// What `sweep_mesh` did, for reports.
