@@ -41,7 +41,7 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
              "Grow branches through the points that lie more than an octree cell outside the model's tubes (crowded "
              "or sparsely scanned crowns: the mesh then reaches them), and fit the radii again. Tufts on the bark "
              "(reaching at most three cells out: noise) and bushes (more than two forks a band: leaves, needles) "
-             "are not grown. Off by default: a few more points within 1% of the model, at up to 4x the time where "
+             "are not grown. Off by default: a few more points within 1% of the model, at up to 3x the time where "
              "the new twigs cross other limbs (docs/models.md). Needs a cloud, not a saved skeleton")
       ->group(g);
   c.add_flag("--local", s.local,
