@@ -135,8 +135,7 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
 
   // 1. Uncovered points: outside every tube near them by more than the margin. The edges at a point's
   // own node decide most; the kd-tree of edge samples settles the rest.
-  std::vector<char> uncovered(n, 0);
-  std::vector<double> outside(n, 0.0);  // of an uncovered point: how far outside the tubes it lies
+  std::vector<double> outside(n, 0.0);  // how far outside the tubes an uncovered point lies; 0: covered
   const EdgeIndex index(skeleton, std::max(cell_size * 0.5, 1e-12));
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes_before, 64), [&](const auto& range) {
     for (std::size_t v = range.begin(); v != range.end(); ++v) {
@@ -147,16 +146,13 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
         for (auto [a, end] = boost::adjacent_vertices(v, skeleton.graph); a != end && out > margin; ++a)
           out = std::min(out, outside_edge(skeleton, x, v, *a));
         if (out > margin) out = std::min(out, index.outside(skeleton, x));
-        if (out > margin) {
-          uncovered[p] = 1;
-          outside[p] = out;
-        }
+        if (out > margin) outside[p] = out;
       }
     }
   });
   std::vector<std::uint32_t> lost;  // the uncovered points, in index order
   for (std::size_t p = 0; p < n; ++p)
-    if (uncovered[p]) lost.push_back(static_cast<std::uint32_t>(p));
+    if (outside[p] > 0.0) lost.push_back(static_cast<std::uint32_t>(p));
   stats.uncovered_points = lost.size();
   if (lost.empty()) return stats;
 
@@ -189,7 +185,7 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
   for (const auto& [key, members] : grid)
     for_cells_around(cloud.positions[lost[members.front()]], link, [&](std::uint64_t k) { near_keys.insert(k); });
   for (std::size_t p = 0; p < n; ++p) {
-    if (uncovered[p] || owner[p] == kNone) continue;
+    if (outside[p] > 0.0 || owner[p] == kNone) continue;
     const Eigen::Vector3d& x = cloud.positions[p];
     if (!near_keys.count(grid_key(x, link))) continue;
     for_near(x, [&](std::uint32_t j, double d) {
