@@ -51,6 +51,11 @@ void share_points(Trunk& t, std::size_t first) {
   }
 }
 
+/// Every node of `before` still holds the points it held (nothing was grafted from them).
+void expect_same_points(const Skeleton& before, const Skeleton& after) {
+  for (NodeId v = 0; v < before.node_count(); ++v) EXPECT_EQ(after[v].points, before[v].points) << "node " << v;
+}
+
 /// Adds the points of a twig: from `from` to `to`, one every `step`, each with a seeded jitter.
 void add_twig(PointCloud& cloud, const Eigen::Vector3d& from, const Eigen::Vector3d& to, double step) {
   std::mt19937 random(11);
@@ -108,7 +113,7 @@ TEST(Complete, LeavesPointsWithinTheRadiusAlone) {
   EXPECT_EQ(stats.uncovered_points, 0u);
   EXPECT_EQ(stats.nodes, 0u);
   EXPECT_EQ(t.skeleton.node_count(), before.node_count());
-  for (NodeId v = 0; v < before.node_count(); ++v) EXPECT_EQ(t.skeleton[v].points, before[v].points);
+  expect_same_points(before, t.skeleton);
 }
 
 // A tuft of fewer points than `min_points` is no branch: its points stay with the node that held
@@ -122,7 +127,7 @@ TEST(Complete, LeavesSmallTuftsAndUnreachablePointsWhereTheyWere) {
   const CompleteStats stats = complete_skeleton(t.skeleton, t.cloud, 0.03);
   EXPECT_EQ(stats.uncovered_points, 24u);
   EXPECT_EQ(stats.nodes, 0u);
-  for (NodeId v = 0; v < before.node_count(); ++v) EXPECT_EQ(t.skeleton[v].points, before[v].points);
+  expect_same_points(before, t.skeleton);
   CompleteOptions fewer;
   fewer.min_points = 3;
   fewer.min_reach = 0.05;  // the tuft reaches 0.09 outside the tube: not past the default, three cells
@@ -146,7 +151,7 @@ TEST(Complete, LeavesNoiseOnTheBarkAlone) {
   const CompleteStats stats = complete_skeleton(t.skeleton, t.cloud, 0.03);
   EXPECT_GE(stats.uncovered_points, 390u);
   EXPECT_EQ(stats.nodes, 0u);
-  for (NodeId v = 0; v < before.node_count(); ++v) EXPECT_EQ(t.skeleton[v].points, before[v].points);
+  expect_same_points(before, t.skeleton);
   CompleteOptions tufts;
   tufts.min_reach = 0.035;
   tufts.max_branching = 0.0;
