@@ -59,6 +59,7 @@ template <class Params, class Radii, class Sweep, class Copy>
 void model_fields(Params& p, Radii& r, Sweep& s, Copy copy) {
   copy(p.exponent, r.exponent);
   copy(p.tip_weight, r.tip_weight);
+  copy(p.complete, r.complete);
   copy(p.segments, s.trunk_segments);
   copy(p.min_segments, s.min_segments);
   copy(p.min_radius, s.min_radius);
@@ -97,9 +98,12 @@ Skeleton skeleton_of(const PointCloud& cloud, const SkeletonParams& sp, const Mo
   SkeletonOptions o = options_of(sp);
   const int skeleton_end = end * 9 / 10;
   if (progress) o.progress = [&](const std::string& stage, double done) { report(progress, stage, done, 0, skeleton_end); };
-  Skeleton skeleton = extract_skeleton(cloud, o);
+  SkeletonStats stats;
+  Skeleton skeleton = extract_skeleton(cloud, o, &stats);
   report(progress, "fitting radii", 1.0, 0, skeleton_end);
-  modeling::fit_radii(skeleton, &cloud, options_of(mp).radii);
+  modeling::RadiusOptions radii = options_of(mp).radii;
+  radii.cell_size = stats.cell_size;  // the scale of the completion's margins
+  modeling::fit_radii(skeleton, &cloud, radii);
   return skeleton;
 }
 

@@ -36,6 +36,7 @@ struct SkeletonParams {
 struct ModelParams {
   double exponent = 0.0;
   double tip_weight = 0.0;
+  bool complete = false;  ///< grow branches through the points the tubes pass by (`model --complete`)
   int segments = 0;
   int min_segments = 0;
   double min_radius = 0.0;

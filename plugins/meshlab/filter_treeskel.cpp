@@ -78,6 +78,10 @@ void add_radius_parameters(RichParameterList& list) {
   list.addParam(RichFloat("tipWeight", static_cast<float>(p.tip_weight), "Tip weight",
                           "How much each branch tip counts, in typical twig lengths, when the pipe model shares "
                           "a fork's cross-section among its children."));
+  list.addParam(RichBool("complete", p.complete, "Grow through missed points",
+                         "Grow branches through the points that lie more than an octree cell outside the fitted "
+                         "branches (crowded or sparsely scanned crowns), then fit the radii again. Tufts of noise "
+                         "on the bark and bushes of leaves are not grown. Up to 3 times slower."));
 }
 
 void add_mesh_parameters(const CMeshO& cloud, RichParameterList& list) {
@@ -122,6 +126,7 @@ bridge::ModelParams model_parameters(const RichParameterList& list, bool mesh) {
   bridge::ModelParams p = bridge::default_model_params();
   p.exponent = list.getFloat("exponent");
   p.tip_weight = list.getFloat("tipWeight");
+  p.complete = list.getBool("complete");
   if (mesh) {
     p.segments = list.getInt("segments");
     p.min_segments = list.getInt("minSegments");

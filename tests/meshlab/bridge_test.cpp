@@ -2,6 +2,7 @@
 
 #include "support/synthetic.h"
 #include "treeskel/io/point_cloud_io.h"
+#include "treeskel/modeling/radii.h"
 #include "treeskel/pipeline.h"
 
 #include <Eigen/Core>
@@ -71,6 +72,7 @@ TEST(MeshlabBridge, DefaultsAreTheLibrarysWithAutomaticScales) {
   EXPECT_GT(m.segments, m.min_segments);
   EXPECT_TRUE(m.repair);
   EXPECT_FALSE(m.allow_defects);
+  EXPECT_EQ(m.complete, modeling::RadiusOptions{}.complete);
 }
 
 TEST(MeshlabBridge, ResolvedScalesAreTheLibrarysAndGiveTheSameSkeleton) {
@@ -118,6 +120,31 @@ TEST(MeshlabBridge, SkeletonLayerIsATreeWithPositiveRadiiInTheCloudsFrame) {
   EXPECT_GE(percents.front(), 0);
   EXPECT_EQ(percents.back(), 100);
   EXPECT_NE(layer.summary.find("branch points"), std::string::npos);
+}
+
+/// "Grow through missed points" is `model --complete`: the layer holds the skeleton the library
+/// completes at the cell size it was extracted with, which has more nodes than the default's.
+TEST(MeshlabBridge, CompletionGivesTheLibrarysCompletedSkeleton) {
+  const std::vector<double> xyz = flat_cloud("tree_adtree1.xyz");
+  ModelParams m = default_model_params();
+  m.complete = true;
+  SkeletonLayer completed, plain;
+  std::string error;
+  ASSERT_TRUE(tree_skeleton(xyz, default_skeleton_params(), m, nullptr, completed, error)) << error;
+  ASSERT_TRUE(tree_skeleton(xyz, default_skeleton_params(), default_model_params(), nullptr, plain, error)) << error;
+
+  const PointCloud cloud = io::read_point_cloud(test::data_file("tree_adtree1.xyz"));
+  SkeletonStats stats;
+  Skeleton skeleton = extract_skeleton(cloud, {}, &stats);
+  modeling::RadiusOptions radii;
+  radii.complete = true;
+  radii.cell_size = stats.cell_size;
+  modeling::RadiusStats grown;
+  modeling::fit_radii(skeleton, &cloud, radii, &grown);
+  ASSERT_GT(grown.completion.nodes, 0u);
+  EXPECT_EQ(completed.radius.size(), skeleton.node_count());
+  EXPECT_EQ(completed.radius.size(), plain.radius.size() + grown.completion.nodes);
+  EXPECT_TRUE(is_tree(completed.radius.size(), completed.edges));
 }
 
 TEST(MeshlabBridge, MeshLayerIsClosedAndOriented) {
@@ -184,10 +211,10 @@ TEST(MeshlabBridge, BundledScriptsHoldTheDefaults) {
       {"breastHeight", m.breast_height}};
   const std::map<std::string, bool> flags = {{"bridgeGaps", true}, {"prune", s.prune},   {"cpc", s.cpc},
                                              {"refine", s.refine}, {"junctions", s.junctions},
-                                             {"smooth", s.smooth}, {"repair", m.repair},
+                                             {"smooth", s.smooth}, {"repair", m.repair}, {"complete", m.complete},
                                              {"keepDefective", m.allow_defects}};
-  for (const auto& [script, count] : {std::pair<std::string, std::size_t>{"tree_skeleton.mlx", 18},
-                                      std::pair<std::string, std::size_t>{"tree_mesh.mlx", 24}}) {
+  for (const auto& [script, count] : {std::pair<std::string, std::size_t>{"tree_skeleton.mlx", 19},
+                                      std::pair<std::string, std::size_t>{"tree_mesh.mlx", 25}}) {
     std::ifstream in(std::string(TREESKEL_MESHLAB_SCRIPTS) + "/" + script);
     ASSERT_TRUE(in) << script;
     std::stringstream text;

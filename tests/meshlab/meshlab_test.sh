@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The MeshLab plugin in the real MeshLab (Debian's meshlabserver, under Xvfb), one case per ctest test.
 # Usage: meshlab_test.sh CASE PREFIX CHECKER DATA_DIR SCRIPTS_DIR WORK_DIR
-#   CASE: load | skeleton-ply | skeleton-xyz | mesh-ply | mesh-xyz | bad-input | gui-bad-input
+#   CASE: load | skeleton-ply | skeleton-xyz | mesh-ply | mesh-xyz | mesh-complete | bad-input | gui-bad-input
 #   PREFIX: the private MeshLab that plugins/meshlab/install.sh PREFIX made
 set -euo pipefail
 case_name=$1 prefix=$2 checker=$3 data=$4 scripts=$5 work=$6/$1
@@ -44,7 +44,7 @@ case $case_name in
     rows() { awk -v f="$1" 'index($0, f) {on = 1; next} on && /\\section/ {exit} on && /<TR>/ {n++} END {print n + 0}' dump.txt; }
     skeleton_rows=$(rows "Tree Skeleton (CPC)") mesh_rows=$(rows "Tree Mesh from Point Cloud")
     echo "Tree Skeleton (CPC): $skeleton_rows parameters; Tree Mesh from Point Cloud: $mesh_rows parameters"
-    [ "$skeleton_rows" -eq 18 ] && [ "$mesh_rows" -eq 24 ] || { echo "unexpected parameter counts" >&2; exit 1; }
+    [ "$skeleton_rows" -eq 19 ] && [ "$mesh_rows" -eq 25 ] || { echo "unexpected parameter counts" >&2; exit 1; }
     grep -qF "Level set band width" dump.txt && grep -qF "Thinnest branch kept" dump.txt
     ;;
   skeleton-ply|skeleton-xyz)
@@ -59,6 +59,22 @@ case $case_name in
     expect_ok -i "$cloud" -o "$out" -s "$scripts/tree_mesh.mlx"
     grep -F "treeskel:" server.log | head -n 1
     "$checker" mesh "$out" "$cloud"
+    ;;
+  mesh-complete)
+    # "Grow through missed points" set in a copy of the bundled script: a checked mesh of a skeleton
+    # with more nodes than the default's (the grown branches), as `treeskel model --complete` gives.
+    cloud=$(input_for xyz)
+    nodes() { grep -F "treeskel:" server.log | head -n 1 | sed -n 's/.* -> \([0-9]*\) nodes -> .*/\1/p'; }
+    expect_ok -i "$cloud" -o plain.ply -s "$scripts/tree_mesh.mlx"
+    plain=$(nodes)
+    sed 's/name="complete" value="false"/name="complete" value="true"/' "$scripts/tree_mesh.mlx" > complete.mlx
+    grep -qF 'name="complete" value="true"' complete.mlx
+    expect_ok -i "$cloud" -o tree.ply -s complete.mlx
+    grep -F "treeskel:" server.log | head -n 1
+    grown=$(nodes)
+    echo "nodes: $plain by default, $grown grown"
+    [ -n "$plain" ] && [ -n "$grown" ] && [ "$grown" -gt "$plain" ] || { echo "no branch grown" >&2; exit 1; }
+    "$checker" mesh tree.ply "$cloud"
     ;;
   bad-input)
     to_ply empty.ply < /dev/null
