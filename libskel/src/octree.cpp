@@ -63,7 +63,7 @@ std::int64_t OctreeCells::find(const Eigen::Vector3i& c) const {
   return it - keys.begin();
 }
 
-OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& options) {
+OctreeCells partition_octree(const PointCloud& cloud, const OctreeOptions& options) {
   if (cloud.empty()) throw InputError("the point cloud is empty");
   if (options.depth < 0 || options.depth > 21)
     throw OptionError("octree depth must be between 1 and 21 (0 for the default), got " + std::to_string(options.depth));
@@ -206,11 +206,48 @@ OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& opt
     }
   cells.first.push_back(static_cast<std::uint32_t>(n));
 
+  // Points at the very same place share their finest key, so they sit in one run of repeated keys, in
+  // index order: each point of a run is compared with the first point of every place seen before it
+  // in the run (runs are short: a few points share a place, or many points one place).
+  std::vector<std::uint32_t> places;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (split[i] != kRepeat) continue;
+    if (split[i - 1] != kRepeat) places.assign(1, keyed[i - 1].second);
+    const std::uint32_t p = keyed[i].second;
+    const auto same = std::find_if(places.begin(), places.end(),
+                                   [&](std::uint32_t f) { return cloud.positions[f] == cloud.positions[p]; });
+    if (same != places.end()) cells.repeats.emplace_back(p, *same);
+    else places.push_back(p);
+  }
+  // The outliers, which have no key: sorted by place, then index.
+  std::vector<std::uint32_t> stray = cells.outliers;
+  const auto before = [&](std::uint32_t a, std::uint32_t b) {
+    const Eigen::Vector3d& p = cloud.positions[a];
+    const Eigen::Vector3d& q = cloud.positions[b];
+    for (int k = 0; k < 3; ++k)
+      if (p[k] != q[k]) return p[k] < q[k];
+    return a < b;
+  };
+  std::sort(stray.begin(), stray.end(), before);
+  for (std::size_t i = 1, f = 0; i < stray.size(); ++i) {
+    if (cloud.positions[stray[i]] != cloud.positions[stray[f]]) f = i;
+    else cells.repeats.emplace_back(stray[i], stray[f]);
+  }
+  std::sort(cells.repeats.begin(), cells.repeats.end());
+  return cells;
+}
+
+void compute_cell_medians(OctreeCells& cells, const PointCloud& cloud, const L1MedianOptions& options) {
   cells.medians.resize(cells.cell_count());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.cell_count(), 256), [&](const auto& range) {
     for (std::size_t c = range.begin(); c != range.end(); ++c)
-      cells.medians[c] = l1_median(cloud.positions, cells.begin(c), cells.end(c), options.median);
+      cells.medians[c] = l1_median(cloud.positions, cells.begin(c), cells.end(c), options);
   });
+}
+
+OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& options) {
+  OctreeCells cells = partition_octree(cloud, options);
+  compute_cell_medians(cells, cloud, options.median);
   return cells;
 }
 

@@ -134,6 +134,35 @@ TEST(Octree, RepeatedPointsCountOnce) {
   EXPECT_EQ(a.depth, b.depth);
   EXPECT_EQ(a.keys, b.keys);
   for (std::size_t c = 0; c < a.cell_count(); ++c) EXPECT_EQ(10 * a.point_count(c), b.point_count(c));
+  // Every copy after the first names the first.
+  EXPECT_TRUE(a.repeats.empty());
+  ASSERT_EQ(b.repeats.size(), 9u * 5000u);
+  for (const auto& [point, first] : b.repeats) EXPECT_EQ(first, point % 5000u) << point;
+}
+
+// Repeats are the very same coordinates (-0 and +0 alike), among the cells' points and the outliers;
+// points a hair apart, in one finest cell, are not repeats.
+TEST(Octree, RepeatsAreExactlyTheSamePlace) {
+  PointCloud c = column(2000);
+  const std::uint32_t n = 2000;
+  c.positions.push_back(c.positions[7]);                                        // n: repeats 7
+  c.positions.push_back(c.positions[7] + Eigen::Vector3d(1e-12, 0.0, 0.0));      // n+1: a hair apart
+  c.positions.push_back(c.positions[7]);                                        // n+2: repeats 7
+  c.positions[3] = {0.0, 0.0, 1.0};
+  c.positions.push_back({-0.0, 0.0, 1.0});                                      // n+3: repeats 3
+  c.positions.push_back({500.0, 0.0, 0.0});                                     // n+4: an outlier
+  c.positions.push_back({500.0, 0.0, 0.0});                                     // n+5: repeats it
+  c.positions.push_back({500.0, 1e-9, 0.0});                                    // n+6: another outlier
+  const OctreeCells cells = partition_octree(c);
+  EXPECT_TRUE(cells.medians.empty());
+  ASSERT_EQ(cells.outliers.size(), 3u);
+  const std::vector<std::pair<std::uint32_t, std::uint32_t>> expected{{n, 7}, {n + 2, 7}, {n + 3, 3}, {n + 5, n + 4}};
+  EXPECT_EQ(cells.repeats, expected);
+  // The full build is the partition with its medians.
+  const OctreeCells full = build_octree_cells(c);
+  EXPECT_EQ(full.repeats, expected);
+  EXPECT_EQ(full.keys, cells.keys);
+  ASSERT_EQ(full.medians.size(), full.cell_count());
 }
 
 TEST(Octree, RejectsEmptyCloudAndBadDepth) {

@@ -45,6 +45,9 @@ struct OctreeCells {
   std::vector<std::uint32_t> point_order;            ///< point indices grouped by cell
   std::vector<Eigen::Vector3d> medians;              ///< L1-median of each cell's points
   std::vector<std::uint32_t> outliers;               ///< points far outside the cloud's bulk, in no cell
+  /// Every point at the very place of a point with a lower index (the same coordinates, -0 and +0
+  /// alike), as (point, the lowest index at that place), by point. Such a point is still in its cell.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> repeats;
 
   std::size_t cell_count() const { return keys.size(); }
   const std::uint32_t* begin(std::size_t cell) const { return point_order.data() + first[cell]; }
@@ -69,5 +72,14 @@ Eigen::Vector3i morton_decode(std::uint64_t key);
 /// every point written twice gives the same cells).
 /// @throws InputError for an empty cloud.
 OctreeCells build_octree_cells(const PointCloud& cloud, const OctreeOptions& options = {});
+
+/// `build_octree_cells` without the medians (`medians` stays empty): the cells, outliers and repeats
+/// alone, for a caller that may not need the medians (a cloud with repeats is skeletonized from its
+/// distinct points). `compute_cell_medians` completes it.
+/// @throws InputError for an empty cloud.
+OctreeCells partition_octree(const PointCloud& cloud, const OctreeOptions& options = {});
+
+/// Fills `cells.medians` with the L1-median of each cell's points (in parallel, deterministic).
+void compute_cell_medians(OctreeCells& cells, const PointCloud& cloud, const L1MedianOptions& options = {});
 
 }  // namespace treeskel
