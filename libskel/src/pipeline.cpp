@@ -175,7 +175,7 @@ Skeleton skeleton_from_cells(const PointCloud& cloud, const OctreeCells& cells, 
   }
   if (options.use_smooth) {
     clock.start("smoothing", 0.95);
-    skeleton = smooth_skeleton(skeleton, options.smooth);
+    skeleton = smooth_skeleton(std::move(skeleton), options.smooth);
   }
   clock.stop();
   if (options.progress) options.progress("done", 1.0);

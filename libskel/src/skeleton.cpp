@@ -135,12 +135,15 @@ double total_length(const SkeletonGraph& graph) {
 }
 
 std::vector<std::int64_t> compact_nodes(Skeleton& skeleton, const std::vector<bool>& keep) {
-  const auto& old = skeleton.graph;
+  auto& old = skeleton.graph;
   const std::size_t n = boost::num_vertices(old);
   std::vector<std::int64_t> remap(n, -1);
-  SkeletonGraph fresh;
+  std::size_t kept = 0;
   for (NodeId v = 0; v < n; ++v)
-    if (keep[v]) remap[v] = static_cast<std::int64_t>(boost::add_vertex(old[v], fresh));
+    if (keep[v]) remap[v] = static_cast<std::int64_t>(kept++);
+  SkeletonGraph fresh(kept);
+  for (NodeId v = 0; v < n; ++v)
+    if (keep[v]) fresh[static_cast<NodeId>(remap[v])] = std::move(old[v]);  // the old graph is dropped below
   for (auto e : boost::make_iterator_range(boost::edges(old))) {
     const auto a = remap[boost::source(e, old)], b = remap[boost::target(e, old)];
     if (a >= 0 && b >= 0) boost::add_edge(static_cast<NodeId>(a), static_cast<NodeId>(b), fresh);

@@ -5,16 +5,28 @@
 namespace treeskel {
 
 Skeleton smooth_skeleton(const Skeleton& skeleton, const SmoothOptions& options) {
+  return smooth_skeleton(Skeleton(skeleton), options);
+}
+
+Skeleton smooth_skeleton(Skeleton&& skeleton, const SmoothOptions& options) {
   if (options.samples_per_edge < 0) throw OptionError("samples per edge must not be negative");
   if (options.tension < 0.0 || options.tension > 1.0) throw OptionError("spline tension must be in [0, 1]");
-  const auto& g = skeleton.graph;
+  auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
   Skeleton out;
   out.root = skeleton.root;
   out.offset = skeleton.offset;
-  out.noise_points = skeleton.noise_points;
+  out.noise_points = std::move(skeleton.noise_points);
   out.left_out = skeleton.left_out;
-  for (NodeId v = 0; v < n; ++v) add_node(out, g[v]);
+  const int k = options.samples_per_edge;
+  const auto order = n == 0 ? std::vector<NodeId>{} : bfs_order(g, skeleton.root);
+  // Every node made at once: the input's, then k on each edge from the root outwards.
+  out.graph = SkeletonGraph(n + (order.empty() ? 0 : static_cast<std::size_t>(k) * (order.size() - 1)));
+  for (NodeId v = 0; v < n; ++v) {  // positions and radii stay in `g` for the splines below
+    out[v].position = g[v].position;
+    out[v].radius = g[v].radius;
+    out[v].points = std::move(g[v].points);
+  }
   if (n == 0) return out;
 
   const auto parent = parents_from_root(g, skeleton.root);
@@ -26,8 +38,8 @@ Skeleton smooth_skeleton(const Skeleton& skeleton, const SmoothOptions& options)
       only_child[parent[v]] = v;
     }
   const double s = (1.0 - options.tension) / 2.0;
-  const int k = options.samples_per_edge;
-  for (auto v : bfs_order(g, skeleton.root)) {
+  NodeId next = n;
+  for (auto v : order) {
     if (v == skeleton.root) continue;
     const NodeId a = parent[v];
     const Eigen::Vector3d& p1 = g[a].position;
@@ -40,10 +52,9 @@ Skeleton smooth_skeleton(const Skeleton& skeleton, const SmoothOptions& options)
     NodeId previous = a;
     for (int i = 1; i <= k; ++i) {
       const double t = static_cast<double>(i) / (k + 1), t2 = t * t, t3 = t2 * t;
-      SkeletonNode node;
-      node.position = (2 * t3 - 3 * t2 + 1) * p1 + (t3 - 2 * t2 + t) * m1 + (-2 * t3 + 3 * t2) * p2 + (t3 - t2) * m2;
-      node.radius = (1 - t) * g[a].radius + t * g[v].radius;
-      const NodeId w = add_node(out, node);
+      const NodeId w = next++;
+      out[w].position = (2 * t3 - 3 * t2 + 1) * p1 + (t3 - 2 * t2 + t) * m1 + (-2 * t3 + 3 * t2) * p2 + (t3 - t2) * m2;
+      out[w].radius = (1 - t) * g[a].radius + t * g[v].radius;
       boost::add_edge(previous, w, out.graph);
       previous = w;
     }

@@ -17,5 +17,7 @@ struct SmoothOptions {
 /// edge parent→child the tangents come from the parent's parent and, where the child continues in a
 /// single branch, the child's child; at the root, tips and forks the missing neighbour is mirrored.
 Skeleton smooth_skeleton(const Skeleton& skeleton, const SmoothOptions& options = {});
+/// The same, taking the input's point lists instead of copying them.
+Skeleton smooth_skeleton(Skeleton&& skeleton, const SmoothOptions& options = {});
 
 }  // namespace treeskel
