@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <numeric>
+#include <random>
 
 namespace treeskel {
 namespace {
@@ -70,6 +71,56 @@ TEST(Cpc, PipelineRecentresAOneSidedCylinder) {
   const double l1 = test::mean_distance_to_axis(extract_skeleton(cloud, without), c);
   EXPECT_LT(cpc, 0.2 * c.radius_a);
   EXPECT_GT(l1, 0.4 * c.radius_a);
+}
+
+// F, its gradient and Hessian written the plain way, one point at a time with Eigen's expressions: the
+// library's evaluation, which does two points at a time where the CPU can, must give the same bits.
+CpcObjective plain_objective(const std::vector<Eigen::Vector3d>& p, const Eigen::Vector3d& v, double weight) {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& q : p) centroid += q;
+  centroid /= static_cast<double>(p.size());
+  double sum = 0.0, sum_sq = 0.0;
+  Eigen::Vector3d u_mean = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d h_mean = Eigen::Matrix3d::Zero();
+  for (const auto& q : p) {
+    const Eigen::Vector3d diff = v - q;
+    const double d = std::max(diff.norm(), 1e-12);
+    sum += d;
+    sum_sq += d * d;
+    const Eigen::Vector3d u = diff / d;
+    u_mean += u;
+    h_mean.noalias() += (Eigen::Matrix3d::Identity() - u * u.transpose()) / d;
+  }
+  const double inv_m = 1.0 / static_cast<double>(p.size());
+  CpcObjective e;
+  e.mean = sum * inv_m;
+  const double lambda = weight / std::max(e.mean, 1e-12);
+  e.value = e.mean + lambda * std::max(sum_sq * inv_m - e.mean * e.mean, 0.0);
+  u_mean *= inv_m;
+  h_mean *= inv_m;
+  e.gradient = u_mean + lambda * (2.0 * (v - centroid) - 2.0 * e.mean * u_mean);
+  e.hessian = h_mean + lambda * (2.0 * Eigen::Matrix3d::Identity() - 2.0 * u_mean * u_mean.transpose() -
+                                 2.0 * e.mean * h_mean);
+  return e;
+}
+
+TEST(Cpc, ObjectiveGivesThePlainSumsBits) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (std::size_t n = 1; n <= 33; ++n) {
+    std::vector<Eigen::Vector3d> p;
+    for (std::size_t i = 0; i < n; ++i) p.emplace_back(1.0 + 0.2 * g(rng), -4.0 + 0.2 * g(rng), 9.0 + g(rng));
+    const Eigen::Vector3d v(1.05, -3.9, 9.2);
+    if (n > 4) p[n / 3] = v;  // a point at v: its distance is the floor
+    const CpcObjective got = cpc_objective(p, v, 100.0), expected = plain_objective(p, v, 100.0);
+    EXPECT_EQ(got.value, expected.value) << n;
+    EXPECT_EQ(got.mean, expected.mean) << n;
+    for (int r = 0; r < 3; ++r) {
+      EXPECT_EQ(got.gradient[r], expected.gradient[r]) << n << " " << r;
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(got.hessian(r, c), expected.hessian(r, c)) << n << " " << r << c;
+    }
+  }
+  EXPECT_EQ(cpc_objective({}, Eigen::Vector3d::Zero(), 100.0).value, 0.0);
 }
 
 }  // namespace

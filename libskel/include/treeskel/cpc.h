@@ -41,6 +41,16 @@ struct CpcOptions {
   double max_spread = 0.25;
 };
 
+/// F(v) above for `points` (λ = w / μ(v) held fixed) with its gradient and Hessian in v: one evaluation
+/// of the Newton steps `cpc_centre` takes. Zero for no points.
+struct CpcObjective {
+  double value = 0.0;
+  double mean = 0.0;  ///< μ(v), the mean distance
+  Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d hessian = Eigen::Matrix3d::Zero();
+};
+CpcObjective cpc_objective(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& v, double weight);
+
 /// The CPC centre of `positions[i]`, i in [first, last), starting from `start`. With a non-zero
 /// `axis`, the centre moves only in the plane through `start` perpendicular to it.
 Eigen::Vector3d cpc_centre(const std::vector<Eigen::Vector3d>& positions, const std::uint32_t* first,
