@@ -1,6 +1,7 @@
 #include "treeskel/cpc.h"
 
 #include "treeskel/level_sets.h"
+#include "thinned.h"
 
 #include <Eigen/Eigenvalues>
 #include <tbb/blocked_range.h>
@@ -94,10 +95,10 @@ Evaluation evaluate(std::size_t m, Get get, const Eigen::Vector3d& v, const Eige
 template <class Get>
 Eigen::Vector3d minimise(std::size_t count, Get get_all, const Eigen::Vector3d& start, const CpcOptions& options,
                          const Eigen::Vector3d& axis) {
-  const std::size_t stride =
-      options.max_points > 0 && count > options.max_points ? (count + options.max_points - 1) / options.max_points : 1;
-  const std::size_t m = (count + stride - 1) / stride;
-  auto get = [&](std::size_t i) -> const Eigen::Vector3d& { return get_all(i * stride); };
+  thread_local std::vector<Eigen::Vector3d> points;  // this thread's copy of the set, reused
+  detail::copy_thinned(count, options.max_points, get_all, points);
+  const std::size_t m = points.size();
+  auto get = [&](std::size_t i) -> const Eigen::Vector3d& { return points[i]; };
   if (m < std::max<std::size_t>(options.min_points, 3) || options.weight <= 0.0) return start;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < m; ++i) centroid += get(i);

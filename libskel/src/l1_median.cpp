@@ -1,5 +1,7 @@
 #include "treeskel/l1_median.h"
 
+#include "thinned.h"
+
 #include <algorithm>
 #include <numeric>
 
@@ -14,10 +16,10 @@ namespace {
 template <class Get>
 Eigen::Vector3d weiszfeld(std::size_t count, Get get_all, const L1MedianOptions& options) {
   if (count == 0) return Eigen::Vector3d::Zero();
-  const std::size_t stride =
-      options.max_points > 0 && count > options.max_points ? (count + options.max_points - 1) / options.max_points : 1;
-  const std::size_t n = (count + stride - 1) / stride;
-  auto get = [&](std::size_t i) -> const Eigen::Vector3d& { return get_all(i * stride); };
+  thread_local std::vector<Eigen::Vector3d> points;  // this thread's copy of the set, reused
+  detail::copy_thinned(count, options.max_points, get_all, points);
+  const std::size_t n = points.size();
+  auto get = [&](std::size_t i) -> const Eigen::Vector3d& { return points[i]; };
   Eigen::Vector3d y = Eigen::Vector3d::Zero();
   Eigen::Vector3d lo = get(0), hi = get(0);
   for (std::size_t i = 0; i < n; ++i) {
