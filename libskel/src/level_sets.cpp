@@ -132,6 +132,12 @@ Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, c
     node.position = l1_median(cloud.positions, node.points.data(), node.points.data() + node.points.size(), options.median);
     node.radius = mean_distance(cloud.positions, node.points, node.position);
   };
+  // Every component's node at once, in parallel (a band of the trunk holds one or two components, too
+  // few to share among threads): the sweep below remakes only the nodes that absorb a sibling.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 8), [&](const auto& range) {
+    for (std::size_t k = range.begin(); k != range.end(); ++k) make_node(static_cast<std::uint32_t>(k));
+  });
+  std::vector<bool> grown(m, false);  // absorbed a sibling: its node is remade
   std::vector<std::uint32_t> order(m);
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return comp_band[a] < comp_band[b]; });
@@ -165,12 +171,13 @@ Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, c
             members[keep].insert(members[keep].end(), members[gone].begin(), members[gone].end());
             members[gone].clear();
             merged_into[gone] = keep;
+            grown[keep] = true;
           }
         i = j;
       }
     std::vector<std::uint32_t> band_nodes;
     for (std::size_t i = first; i < last; ++i)
-      if (owner(order[i]) == order[i]) band_nodes.push_back(order[i]);
+      if (owner(order[i]) == order[i] && grown[order[i]]) band_nodes.push_back(order[i]);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, band_nodes.size(), 4), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) make_node(band_nodes[i]);
     });
@@ -180,8 +187,12 @@ Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, c
   Skeleton skeleton;
   skeleton.offset = cloud.offset;
   std::vector<std::int64_t> node_id(m, -1);
+  std::size_t kept = 0;
   for (std::size_t k = 0; k < m; ++k)
-    if (owner(static_cast<std::uint32_t>(k)) == k) node_id[k] = static_cast<std::int64_t>(add_node(skeleton, nodes[k]));
+    if (owner(static_cast<std::uint32_t>(k)) == k) node_id[k] = static_cast<std::int64_t>(kept++);
+  skeleton.graph = SkeletonGraph(kept);
+  for (std::size_t k = 0; k < m; ++k)
+    if (node_id[k] >= 0) skeleton[static_cast<NodeId>(node_id[k])] = std::move(nodes[k]);
   for (std::size_t k = 0; k < m; ++k)
     if (node_id[k] >= 0 && below[k] >= 0)
       boost::add_edge(static_cast<std::size_t>(node_id[k]), static_cast<std::size_t>(node_id[owner(static_cast<std::uint32_t>(below[k]))]),
