@@ -49,27 +49,49 @@ SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mes
   if (mesh.n_faces() == 0) return out;
   const Surface surface = to_surface(mesh);
   Tree tree(faces(surface).first, faces(surface).second, surface);
-  tree.accelerate_distance_queries();
+  tree.build();  // before the threads read it
   const CGAL::Side_of_triangle_mesh<Surface, K> inside(tree);
   const double tolerance2 = tolerance * tolerance;
-  auto covered = [&](const Eigen::Vector3d& p) {
-    const K::Point_3 q = point(p);
-    return inside(q) != CGAL::ON_UNBOUNDED_SIDE || tree.squared_distance(q) <= tolerance2;
-  };
   // Each edge on its own (the tree is only read), summed in edge order: the same share for any
-  // number of threads.
+  // number of threads. First which samples lie inside; then, for those outside, whether they are
+  // within the tolerance of the surface.
   std::vector<std::pair<NodeId, NodeId>> edges;
   for (auto [it, end] = boost::edges(g); it != end; ++it) edges.emplace_back(boost::source(*it, g), boost::target(*it, g));
-  std::vector<double> covered_length(edges.size(), 0.0);
+  std::vector<int> pieces(edges.size()), hits(edges.size(), 0);
+  std::vector<std::vector<K::Point_3>> outside(edges.size());
   tbb::parallel_for(std::size_t{0}, edges.size(), [&](std::size_t e) {
     const Eigen::Vector3d a = g[edges[e].first].position, b = g[edges[e].second].position;
-    const double length = (b - a).norm();
     // Samples at the centres of equal pieces: each stands for one piece's length.
-    const int pieces = std::max(2, static_cast<int>(std::ceil(length / step)));
-    int hits = 0;
-    for (int i = 0; i < pieces; ++i) hits += covered(a + (b - a) * ((i + 0.5) / pieces)) ? 1 : 0;
-    covered_length[e] = length * hits / pieces;
+    pieces[e] = std::max(2, static_cast<int>(std::ceil((b - a).norm() / step)));
+    // A sample is on the side of the one before it when the segment between them meets no triangle
+    // (an exact predicate, as is the side test): only the first sample, one past the surface and one
+    // after a sample outside is tested on its own. Most samples lie deep inside a branch, and a short
+    // segment is far cheaper to test than a ray's parity.
+    K::Point_3 last;
+    bool last_inside = false;
+    for (int i = 0; i < pieces[e]; ++i) {
+      const K::Point_3 q = point(a + (b - a) * ((i + 0.5) / pieces[e]));
+      const bool in = (i > 0 && last_inside && !tree.do_intersect(K::Segment_3(last, q))) ||
+                      inside(q) != CGAL::ON_UNBOUNDED_SIDE;
+      if (in) ++hits[e];
+      else outside[e].push_back(q);
+      last = q;
+      last_inside = in;
+    }
   });
+  std::size_t outside_count = 0;
+  for (const auto& o : outside) outside_count += o.size();
+  if (outside_count > 0) {
+    tree.accelerate_distance_queries();  // built only when a sample needs a distance
+    tbb::parallel_for(std::size_t{0}, edges.size(), [&](std::size_t e) {
+      for (const auto& q : outside[e]) hits[e] += tree.squared_distance(q) <= tolerance2 ? 1 : 0;
+    });
+  }
+  std::vector<double> covered_length(edges.size(), 0.0);
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const double length = (g[edges[e].second].position - g[edges[e].first].position).norm();
+    covered_length[e] = length * hits[e] / pieces[e];
+  }
   for (double x : covered_length) out.inside_length += x;
   return out;
 }
