@@ -143,15 +143,14 @@ TreeMesh to_tree_mesh(const Surface& s, const Eigen::Vector3d& offset) {
 /// Corefines `piece` into `whole` (their union replaces `whole`); false, with `whole` unchanged, if
 /// CGAL refuses.
 bool unite_into(Surface& whole, Surface piece) {
-  Surface result;
   bool ok = false;
+  Surface copy = whole;  // the union is made in the copy, in place: `whole` stays if CGAL refuses
   try {
-    Surface copy = whole;
-    ok = PMP::corefine_and_compute_union(copy, piece, result);
+    ok = PMP::corefine_and_compute_union(copy, piece, copy);
   } catch (const std::exception&) {
     ok = false;
   }
-  if (ok) whole = std::move(result);
+  if (ok) whole = std::move(copy);
   return ok;
 }
 

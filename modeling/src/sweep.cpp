@@ -15,6 +15,7 @@
 #include <CGAL/convex_hull_3.h>
 #include <CGAL/intersections.h>
 #include <Eigen/Geometry>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
@@ -982,10 +983,14 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
       break;
     }
     // Tested in the 32-bit floats of the frame files hold (where rounding can fold the needle-thin
-    // faces of a twig's tip into each other), then in doubles (what OBJ holds).
-    auto pairs = self_intersecting_faces_at(*mesh, detail::world_floats(*mesh, frame));
+    // faces of a twig's tip into each other), then in doubles (what OBJ holds). CGAL's test runs on
+    // one core here, so the two run side by side; the doubles' answer counts only when the floats
+    // found nothing.
+    std::vector<std::pair<std::size_t, std::size_t>> pairs, double_pairs;
+    tbb::parallel_invoke([&] { pairs = self_intersecting_faces_at(*mesh, detail::world_floats(*mesh, frame)); },
+                         [&] { double_pairs = self_intersecting_faces(*mesh); });
     st.float_crossings = pairs.size();
-    if (pairs.empty()) pairs = self_intersecting_faces(*mesh);
+    if (pairs.empty()) pairs = std::move(double_pairs);
     st.self_intersections = pairs.size();
     if (pairs.empty() || !may_repair) {
       best = std::move(mesh);
