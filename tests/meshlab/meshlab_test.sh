@@ -10,8 +10,19 @@ server=$prefix/bin/meshlabserver
 [ -x "$server" ] || { echo "no meshlabserver in $prefix (run plugins/meshlab/install.sh PREFIX)" >&2; exit 1; }
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 
-# meshlabserver under a private X server; its exit status, its output in server.log.
-run() { set +e; xvfb-run -a "$server" "$@" > server.log 2>&1; local rc=$?; set -e; return $rc; }
+# meshlabserver under a private X server; its exit status, its output in server.log. An X server that
+# fails to start (xvfb-run -a can lose a display number to a server starting elsewhere at that moment)
+# is not MeshLab's failure: it is started again, three times at most, and said so.
+run() {
+  local rc
+  for attempt in 1 2 3; do
+    set +e; xvfb-run -a "$server" "$@" > server.log 2>&1; rc=$?; set -e
+    grep -q "Xvfb failed to start" server.log || break
+    echo "Xvfb failed to start (attempt $attempt)" >&2
+    sleep 1
+  done
+  return $rc
+}
 
 # Writes stdin's "x y z" rows as an ASCII PLY point cloud to $1.
 to_ply() {
