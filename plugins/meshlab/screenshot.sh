@@ -9,7 +9,7 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 prefix=${1:?usage: screenshot.sh PREFIX OUT_DIR}
 out=${2:?usage: screenshot.sh PREFIX OUT_DIR}
-for tool in xvfb-run xdotool import; do
+for tool in Xvfb xdotool import; do
   command -v $tool >/dev/null || { echo "screenshot.sh: $tool is missing (apt-get install xvfb xdotool imagemagick)" >&2; exit 1; }
 done
 mkdir -p "$out"
@@ -37,5 +37,5 @@ xdotool mousemove 471 114 click 1; sleep 2         # hide the cloud's layer
 import -window root -crop 860x600+0+0 "$out/meshlab_tree_mesh_result.png"
 kill \$meshlab
 SESSION
-xvfb-run -a -s "-screen 0 1280x1024x24" bash "$work/session.sh"
+"$here/plugins/meshlab/with-xvfb.sh" -s "-screen 0 1280x1024x24" bash "$work/session.sh"
 echo "wrote $out/meshlab_tree_mesh_dialog.png and $out/meshlab_tree_mesh_result.png"

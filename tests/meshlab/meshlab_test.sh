@@ -5,24 +5,14 @@
 #   PREFIX: the private MeshLab that plugins/meshlab/install.sh PREFIX made
 set -euo pipefail
 case_name=$1 prefix=$2 checker=$3 data=$4 scripts=$5 work=$6/$1
-command -v xvfb-run >/dev/null || { echo "xvfb-run is missing (Debian package xvfb)" >&2; exit 1; }
 server=$prefix/bin/meshlabserver
 [ -x "$server" ] || { echo "no meshlabserver in $prefix (run plugins/meshlab/install.sh PREFIX)" >&2; exit 1; }
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 
-# meshlabserver under a private X server; its exit status, its output in server.log. An X server that
-# fails to start (xvfb-run -a can lose a display number to a server starting elsewhere at that moment)
-# is not MeshLab's failure: it is started again, three times at most, and said so.
-run() {
-  local rc
-  for attempt in 1 2 3; do
-    set +e; xvfb-run -a "$server" "$@" > server.log 2>&1; rc=$?; set -e
-    grep -q "Xvfb failed to start" server.log || break
-    echo "Xvfb failed to start (attempt $attempt)" >&2
-    sleep 1
-  done
-  return $rc
-}
+# meshlabserver under a private X server (with-xvfb.sh: the command's own exit status, a display the
+# server picked itself); its output in server.log.
+xvfb=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)/plugins/meshlab/with-xvfb.sh
+run() { "$xvfb" "$server" "$@" > server.log 2>&1; }
 
 # Writes stdin's "x y z" rows as an ASCII PLY point cloud to $1.
 to_ply() {
@@ -129,7 +119,7 @@ done
 kill -0 \$meshlab && echo "MeshLab still running after both failures"
 kill \$meshlab
 SESSION
-    xvfb-run -a -s "-screen 0 1280x1024x24" bash session.sh
+    "$xvfb" -s "-screen 0 1280x1024x24" bash session.sh
     ;;
   *) echo "unknown case $case_name" >&2; exit 2 ;;
 esac
