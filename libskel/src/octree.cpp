@@ -168,20 +168,43 @@ OctreeCells partition_octree(const PointCloud& cloud, const OctreeOptions& optio
       // the target exactly when fewer than half the points lie in cells below the target: counted per
       // depth in one pass, with no list of cells to sort.
       cells.depth = 1;
-      const auto sparse = [&](std::size_t run) { return static_cast<double>(run) < options.points_per_cell; };
-      for (int d = 1; d <= deepest; ++d) {
-        std::size_t run = 0, below = 0;  // points in cells under the target
+      std::vector<std::size_t> below(static_cast<std::size_t>(deepest) + 1, 0);  // points in cells under the target, per depth
+      if (options.points_per_cell <= 1.0) {
+        // No cell holds fewer than one point.
+      } else if (options.points_per_cell <= 2.0) {
+        // Cells under the target hold one point: a point is alone in its cell from the depth at which
+        // both it and the next distinct point start a cell, so one pass counts every depth.
+        std::vector<std::size_t> alone_from(kRepeat + 1, 0);
+        std::size_t previous = n;  // the last distinct point seen
         for (std::size_t i = 0; i < n; ++i) {
-          if (split[i] == kRepeat) continue;  // a repeated point
-          if (i > 0 && split[i] <= d) {
-            if (sparse(run)) below += run;
-            run = 0;
-          }
-          ++run;
+          if (split[i] == kRepeat) continue;
+          if (previous != n) ++alone_from[std::max(split[previous], split[i])];
+          previous = i;
         }
-        if (sparse(run)) below += run;
-        if (2 * below < distinct) cells.depth = d;
+        if (previous != n) ++alone_from[split[previous]];
+        std::size_t sum = 0;
+        for (int d = 0; d <= deepest; ++d) {
+          sum += alone_from[static_cast<std::size_t>(d)];
+          below[static_cast<std::size_t>(d)] = sum;
+        }
+      } else {
+        const auto sparse = [&](std::size_t run) { return static_cast<double>(run) < options.points_per_cell; };
+        for (int d = 1; d <= deepest; ++d) {
+          std::size_t run = 0;
+          auto& count = below[static_cast<std::size_t>(d)];
+          for (std::size_t i = 0; i < n; ++i) {
+            if (split[i] == kRepeat) continue;  // a repeated point
+            if (i > 0 && split[i] <= d) {
+              if (sparse(run)) count += run;
+              run = 0;
+            }
+            ++run;
+          }
+          if (sparse(run)) count += run;
+        }
       }
+      for (int d = 1; d <= deepest; ++d)
+        if (2 * below[static_cast<std::size_t>(d)] < distinct) cells.depth = d;
     }
   }
   cells.cell_size = cells.cube_size / static_cast<double>(1u << cells.depth);

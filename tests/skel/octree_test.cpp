@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 namespace treeskel {
@@ -64,6 +65,42 @@ TEST(Octree, DefaultDepthFollowsThePointDensity) {
   OctreeOptions capped;
   capped.points_per_cell = 0.5;  // would go to depth 8 or more, but only 1 beyond the paper's 6
   EXPECT_EQ(build_octree_cells(square, capped).depth, 7);
+}
+
+TEST(Octree, DefaultDepthIsTheDeepestWhereFewerThanHalfThePointsLieInSmallerCells) {
+  // The rule checked against the cells of every depth, built one by one: clumps of points of many
+  // sizes, so that the depths differ in how many points lie in cells under the target.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int trial = 0; trial < 6; ++trial) {
+    PointCloud cloud;
+    const int clumps = 5 + 20 * trial;
+    for (int k = 0; k < clumps; ++k) {
+      const Eigen::Vector3d centre(u(rng), u(rng), u(rng));
+      const double spread = 0.002 * std::pow(10.0, 2.0 * u(rng));
+      for (int i = 0, n = 1 + static_cast<int>(300 * u(rng)); i < n; ++i)
+        cloud.positions.push_back(centre + spread * Eigen::Vector3d(g(rng), g(rng), g(rng)));
+    }
+    const std::size_t n = cloud.size();
+    for (double target : {0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 5.0}) {
+      OctreeOptions options;
+      options.points_per_cell = target;
+      options.max_extra_depth = 3;
+      const int deepest = std::min(21, paper_octree_depth(n) + options.max_extra_depth);
+      int expected = 1;
+      for (int d = 1; d <= deepest; ++d) {
+        OctreeOptions fixed;
+        fixed.depth = d;
+        const OctreeCells cells = build_octree_cells(cloud, fixed);
+        std::size_t below = 0;
+        for (std::size_t c = 0; c < cells.cell_count(); ++c)
+          if (static_cast<double>(cells.point_count(c)) < target) below += cells.point_count(c);
+        if (2 * below < n) expected = d;
+      }
+      EXPECT_EQ(partition_octree(cloud, options).depth, expected) << "trial " << trial << ", target " << target;
+    }
+  }
 }
 
 TEST(Octree, EveryPointIsInExactlyOneCellThatContainsIt) {
