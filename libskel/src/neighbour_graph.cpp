@@ -5,13 +5,13 @@
 #include "treeskel/kd_search.h"
 
 #include <CGAL/Kd_tree.h>
-#include <CGAL/Orthogonal_incremental_neighbor_search.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <numeric>
+#include <queue>
 #include <tuple>
 
 namespace treeskel {
@@ -23,7 +23,6 @@ using kd::Point;
 using kd::PointMap;
 using kd::Traits;
 using kd::Tree;
-using IncrementalSearch = CGAL::Orthogonal_incremental_neighbor_search<Traits>;
 
 /// Kd-tree over the cell medians, indexed by cell id.
 struct MedianIndex {
@@ -86,6 +85,78 @@ private:
   std::vector<Slot> slots_;
   std::size_t mask_ = 0;
   int shift_ = 60;
+};
+
+/// The cells nearest a cell's median, nearest first, with no tree to build: the cells sorted by Morton
+/// key form blocks of 4 x 4 x 4 cells as runs, found by a hash of the block keys. Blocks are read
+/// shell by shell around the starting cell's block, and a cell is handed out once no block still
+/// unread can hold a nearer median (a median lies in its cell's box). Equal distances go by cell index.
+class NearestCells {
+public:
+  explicit NearestCells(const OctreeCells& cells)
+      : cells_(cells), levels_(std::min(2, cells.depth)), table_(block_keys(cells, levels_, first_)),
+        side_(1 << (cells.depth - levels_)), size_(cells.cell_size * static_cast<double>(1 << levels_)) {}
+
+  /// Calls `visit(cell, distance)` for the cells whose medians lie within `reach` of `from`'s, nearest
+  /// first (`from` itself first), until it returns false.
+  template <class Visit>
+  void visit(std::uint32_t from, double reach, Visit&& visit) const {
+    const Eigen::Vector3d& centre = cells_.medians[from];
+    const Eigen::Vector3i home = morton_decode(cells_.keys[from] >> (3 * levels_));
+    using Entry = std::pair<double, std::uint32_t>;  // squared distance, cell
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> pending;
+    const double reach2 = reach * reach;
+    for (int r = 0;; ++r) {
+      bool any_inside = false;  // a block of this shell lies in the grid
+      const auto read = [&](int x, int y, int z) {
+        if (x < 0 || y < 0 || z < 0 || x >= side_ || y >= side_ || z >= side_) return;
+        any_inside = true;
+        const auto b = table_.find(morton_encode(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
+                                                 static_cast<std::uint32_t>(z)));
+        if (b < 0) return;
+        for (std::uint32_t c = first_[static_cast<std::size_t>(b)]; c < first_[static_cast<std::size_t>(b) + 1]; ++c) {
+          const double d2 = (cells_.medians[c] - centre).squaredNorm();
+          if (d2 <= reach2) pending.emplace(d2, c);
+        }
+      };
+      for (int dz = -r; dz <= r; ++dz)
+        for (int dy = -r; dy <= r; ++dy) {
+          const bool face = std::abs(dz) == r || std::abs(dy) == r;
+          for (int dx = -r; dx <= r; dx += face ? 1 : 2 * std::max(r, 1))
+            read(home.x() + dx, home.y() + dy, home.z() + dz);
+        }
+      // Every block not read yet is r + 1 blocks away or more: its medians are at least r blocks off.
+      const double bound = static_cast<double>(r) * size_ * (1.0 - 1e-9);
+      const bool last = !any_inside || bound > reach;
+      while (!pending.empty() && (last || pending.top().first < bound * bound)) {
+        const auto [d2, c] = pending.top();
+        pending.pop();
+        if (!visit(c, std::sqrt(d2))) return;
+      }
+      if (last) return;
+    }
+  }
+
+private:
+  static KeyTable block_keys(const OctreeCells& cells, int levels, std::vector<std::uint32_t>& first) {
+    std::vector<std::uint64_t> keys;
+    for (std::size_t c = 0; c < cells.cell_count(); ++c) {
+      const std::uint64_t key = cells.keys[c] >> (3 * levels);
+      if (keys.empty() || keys.back() != key) {
+        keys.push_back(key);
+        first.push_back(static_cast<std::uint32_t>(c));
+      }
+    }
+    first.push_back(static_cast<std::uint32_t>(cells.cell_count()));
+    return KeyTable(keys);
+  }
+
+  const OctreeCells& cells_;
+  int levels_;
+  std::vector<std::uint32_t> first_;  // block b's cells: first_[b] .. first_[b + 1]
+  KeyTable table_;
+  int side_;
+  double size_;
 };
 
 /// Compressed rows from `blocks`, runs of consecutive rows in cell order, and `counts`, the length
@@ -200,7 +271,7 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> bridge_parts(const OctreeCe
       std::max_element(part_points.begin(), part_points.end()) - part_points.begin());
   if (part_cells[largest] == adj.size()) return {};
 
-  const MedianIndex index(cells);
+  const NearestCells nearest(cells);
   using Link = std::tuple<double, std::uint32_t, std::uint32_t>;
   // Probe cells: every cell of small parts, an even selection of the cells of large ones.
   std::vector<std::uint32_t> probe;
@@ -216,19 +287,15 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> bridge_parts(const OctreeCe
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const auto c = probe[i];
       const bool big = part_points[label[c]] >= min_points;
-      const double reach = big ? far : near;
-      IncrementalSearch search(*index.tree, index.points[c], 0.0, true, IncrementalSearch::Distance(index.map()));
       std::size_t visited = 0;
-      for (auto it = search.begin(); it != search.end() && visited++ < max_visits; ++it) {
-        const double d = std::sqrt(it->second);
-        if (d > reach) break;
-        const auto o = it->first;
-        if (label[o] == label[c]) continue;
+      nearest.visit(c, big ? far : near, [&](std::uint32_t o, double d) {
+        if (visited++ >= max_visits) return false;
+        if (label[o] == label[c]) return true;
         // A far link must land on a part that is large too: noise does not join across a gap.
-        if (d > near && part_points[label[o]] < min_points) continue;
+        if (d > near && part_points[label[o]] < min_points) return true;
         found[i] = Link{(cells.medians[c] - cells.medians[o]).norm(), c, o};
-        break;
-      }
+        return false;
+      });
     }
   });
   std::vector<Link> links;

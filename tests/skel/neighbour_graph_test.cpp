@@ -78,6 +78,42 @@ TEST(NeighbourGraph, BridgesGapsShorterThanTheBridgeDistance) {
   EXPECT_EQ(std::count(main.in_tree.begin(), main.in_tree.end(), true), 12);
 }
 
+TEST(NeighbourGraph, BridgeLinksEachPartToItsNearestForeignCell) {
+  // A line of cells along z, two small parts beside it several cells away (across blocks of the
+  // search), and two corner pins out of reach. Each small part is linked by its shortest link.
+  std::vector<Eigen::Vector3i> at;
+  for (int z = 0; z < 31; ++z) at.emplace_back(8, 8, z);
+  at.emplace_back(13, 8, 10);  // part A: 5 cells from (8, 8, 10)
+  at.emplace_back(14, 8, 10);
+  at.emplace_back(8, 11, 25);  // part B: 3 cells from (8, 8, 25)
+  at.emplace_back(8, 12, 26);
+  const PointCloud cloud = grid_points(at, 32);
+  OctreeOptions o;
+  o.depth = 5;
+  const OctreeCells cells = build_octree_cells(cloud, o);
+  ASSERT_DOUBLE_EQ(cells.cell_size, 1.0);
+  NeighbourGraphOptions g;
+  g.bridge_distance = 6.0;
+  const CellGraph graph = build_neighbour_graph(cells, g);
+  EXPECT_EQ(graph.bridges, 2u);
+  const auto linked = [&](const Eigen::Vector3i& a, const Eigen::Vector3i& b) {
+    const auto i = cells.find(a), j = cells.find(b);
+    for (auto e = graph.offsets[i]; e < graph.offsets[i + 1]; ++e)
+      if (graph.targets[e] == j) return true;
+    return false;
+  };
+  EXPECT_TRUE(linked({13, 8, 10}, {8, 8, 10}));
+  EXPECT_TRUE(linked({8, 11, 25}, {8, 8, 25}));
+  EXPECT_FALSE(linked({14, 8, 10}, {8, 8, 10}));
+  std::uint32_t parts = 0;
+  connected_components(graph, &parts);
+  EXPECT_EQ(parts, 3u);  // the line with A and B, and the two pins
+
+  // Out of reach: a bridge distance under 3 joins neither part.
+  g.bridge_distance = 2.9;
+  EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 0u);
+}
+
 TEST(NeighbourGraph, KnnGraphIsSymmetricWithAtLeastKNeighbours) {
   PointCloud cloud;
   for (int i = 0; i < 400; ++i) cloud.positions.emplace_back(std::cos(i * 0.1) * (1 + i * 0.01), std::sin(i * 0.1), i * 0.01);
