@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <random>
+
 namespace treeskel {
 namespace {
 
@@ -45,6 +48,58 @@ TEST(Geodesic, DistanceFollowsTheGraphNotTheStraightLine) {
     ++steps;
   }
   EXPECT_TRUE(std::find(roots.begin(), roots.end(), static_cast<std::uint32_t>(c)) != roots.end());
+}
+
+TEST(Geodesic, TiesGoToTheLowestIndexLikeThePlainSearch) {
+  // Random graphs with small integer weights (many paths of equal length): distances and
+  // predecessors equal those of the plain O(n^2) search that takes the nearest, then lowest, cell.
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 20; ++trial) {
+    const std::uint32_t n = 50 + 30 * static_cast<std::uint32_t>(trial);
+    std::vector<std::vector<std::pair<std::uint32_t, double>>> adj(n);
+    std::uniform_int_distribution<std::uint32_t> cell(0, n - 1);
+    std::uniform_int_distribution<int> weight(0, 3);
+    for (std::uint32_t e = 0; e < 3 * n; ++e) {
+      const auto a = cell(rng), b = cell(rng);
+      if (a == b) continue;
+      const double w = weight(rng);
+      adj[a].emplace_back(b, w);
+      adj[b].emplace_back(a, w);
+    }
+    CellGraph graph;
+    graph.offsets.push_back(0);
+    for (const auto& row : adj) {
+      for (const auto& [o, w] : row) {
+        graph.targets.push_back(o);
+        graph.weights.push_back(w);
+      }
+      graph.offsets.push_back(static_cast<std::uint32_t>(graph.targets.size()));
+    }
+    const std::vector<std::uint32_t> sources{cell(rng), cell(rng)};
+    const GeodesicField field = geodesic_distance(graph, sources);
+
+    const double inf = std::numeric_limits<double>::infinity();
+    std::vector<double> distance(n, inf);
+    std::vector<std::int64_t> predecessor(n, -1);
+    std::vector<bool> done(n, false);
+    for (auto s : sources) distance[s] = 0.0;
+    for (;;) {
+      std::int64_t c = -1;
+      for (std::uint32_t v = 0; v < n; ++v)
+        if (!done[v] && distance[v] < inf && (c < 0 || distance[v] < distance[c])) c = v;
+      if (c < 0) break;
+      done[c] = true;
+      for (const auto& [o, w] : adj[c])
+        if (distance[c] + w < distance[o]) {
+          distance[o] = distance[c] + w;
+          predecessor[o] = c;
+        }
+    }
+    for (std::uint32_t v = 0; v < n; ++v) {
+      EXPECT_EQ(field.distance[v], distance[v]) << "trial " << trial << ", cell " << v;
+      EXPECT_EQ(static_cast<std::int64_t>(field.predecessor[v]), predecessor[v]) << "trial " << trial << ", cell " << v;
+    }
+  }
 }
 
 TEST(Geodesic, RootPointAndUpAxisChooseTheStart) {
