@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -36,22 +37,34 @@ Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, c
     if (in_tree[c] && std::isfinite(geodesic.distance[c]))
       band[c] = static_cast<std::int64_t>(std::floor(geodesic.distance[c] / rho));
 
-  // Components of each band: union over the edges that stay inside one band.
-  std::vector<std::uint32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](std::uint32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  for (std::size_t c = 0; c < n; ++c) {
-    if (band[c] < 0) continue;
-    for (auto e = graph.offsets[c]; e < graph.offsets[c + 1]; ++e) {
-      const auto o = graph.targets[e];
-      if (band[o] != band[c]) continue;
-      auto a = find(static_cast<std::uint32_t>(c)), b = find(o);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  // Components of each band: union over the edges that stay inside one band, in parallel. A root is
+  // only ever linked under a smaller one, so each component's root is its smallest cell, whatever the
+  // order of the unions.
+  std::vector<std::atomic<std::uint32_t>> link(n);
+  for (std::size_t c = 0; c < n; ++c) link[c].store(static_cast<std::uint32_t>(c), std::memory_order_relaxed);
+  const auto find = [&](std::uint32_t v) {
+    for (;;) {
+      std::uint32_t up = link[v].load(std::memory_order_acquire);
+      if (up == v) return v;
+      const std::uint32_t next = link[up].load(std::memory_order_acquire);
+      if (next != up) link[v].compare_exchange_weak(up, next, std::memory_order_acq_rel);  // halve the path
+      v = next;
     }
-  }
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t c = range.begin(); c != range.end(); ++c) {
+      if (band[c] < 0) continue;
+      for (auto e = graph.offsets[c]; e < graph.offsets[c + 1]; ++e) {
+        const auto o = graph.targets[e];
+        if (o < c || band[o] != band[c]) continue;  // each edge once
+        for (std::uint32_t a = find(static_cast<std::uint32_t>(c)), b = find(o); a != b; a = find(a), b = find(b)) {
+          if (a < b) std::swap(a, b);
+          std::uint32_t expected = a;  // the larger root goes under the smaller, if still a root
+          if (link[a].compare_exchange_strong(expected, b, std::memory_order_acq_rel)) break;
+        }
+      }
+    }
+  });
   // Number the components in cell order of their representative (the smallest cell id).
   std::vector<std::int64_t> comp_of(n, -1);
   std::vector<std::vector<std::uint32_t>> members;
@@ -73,43 +86,52 @@ Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, c
   // has none. Every other one has at least its lowest cell's shortest-path predecessor below it.
   std::vector<std::int64_t> below(m, -1);
   std::vector<std::int64_t> comp_band(m);
+  std::vector<bool> has_pred(m, true);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 64), [&](const auto& range) {
+    std::vector<std::pair<std::int64_t, std::uint32_t>> links;  // (lower component, edges)
+    for (std::size_t k = range.begin(); k != range.end(); ++k) {
+      const auto lowest = *std::min_element(members[k].begin(), members[k].end(), [&](auto a, auto b) {
+        return geodesic.distance[a] < geodesic.distance[b] || (geodesic.distance[a] == geodesic.distance[b] && a < b);
+      });
+      comp_band[k] = band[lowest];
+      const auto pred = geodesic.predecessor[lowest];
+      if (pred < 0) {
+        has_pred[k] = false;
+        continue;
+      }
+      links.clear();
+      for (auto c : members[k])
+        for (auto e = graph.offsets[c]; e < graph.offsets[c + 1]; ++e) {
+          const auto o = graph.targets[e];
+          if (band[o] < 0 || band[o] >= comp_band[k]) continue;
+          links.emplace_back(comp_of[o], 1);
+        }
+      std::sort(links.begin(), links.end());
+      std::int64_t best = comp_of[pred];
+      std::int64_t best_band = -1;
+      std::size_t best_count = 0;
+      for (std::size_t i = 0; i < links.size();) {
+        std::size_t j = i;
+        while (j < links.size() && links[j].first == links[i].first) ++j;
+        const auto candidate = links[i].first;
+        const auto candidate_band = band[members[candidate].front()];
+        if (candidate_band > best_band || (candidate_band == best_band && j - i > best_count)) {
+          best = candidate;
+          best_band = candidate_band;
+          best_count = j - i;
+        }
+        i = j;
+      }
+      below[k] = best;
+    }
+  });
   std::int64_t root = -1;
-  std::vector<std::pair<std::int64_t, std::uint32_t>> links;  // (lower component, edges), per component
   for (std::size_t k = 0; k < m; ++k) {
-    const auto lowest = *std::min_element(members[k].begin(), members[k].end(), [&](auto a, auto b) {
-      return geodesic.distance[a] < geodesic.distance[b] || (geodesic.distance[a] == geodesic.distance[b] && a < b);
-    });
-    comp_band[k] = band[lowest];
-    const auto pred = geodesic.predecessor[lowest];
-    if (pred < 0) {
+    if (!has_pred[k]) {
       TREESKEL_REQUIRE(root < 0, "the root cells span more than one band component");
       root = static_cast<std::int64_t>(k);
       continue;
     }
-    links.clear();
-    for (auto c : members[k])
-      for (auto e = graph.offsets[c]; e < graph.offsets[c + 1]; ++e) {
-        const auto o = graph.targets[e];
-        if (band[o] < 0 || band[o] >= comp_band[k]) continue;
-        links.emplace_back(comp_of[o], 1);
-      }
-    std::sort(links.begin(), links.end());
-    std::int64_t best = comp_of[pred];
-    std::int64_t best_band = -1;
-    std::size_t best_count = 0;
-    for (std::size_t i = 0; i < links.size();) {
-      std::size_t j = i;
-      while (j < links.size() && links[j].first == links[i].first) ++j;
-      const auto candidate = links[i].first;
-      const auto candidate_band = band[members[candidate].front()];
-      if (candidate_band > best_band || (candidate_band == best_band && j - i > best_count)) {
-        best = candidate;
-        best_band = candidate_band;
-        best_count = j - i;
-      }
-      i = j;
-    }
-    below[k] = best;
     TREESKEL_REQUIRE(below[k] >= 0 && below[k] != static_cast<std::int64_t>(k), "a band component has no lower neighbour");
   }
   TREESKEL_REQUIRE(root >= 0, "no band component holds the root");
