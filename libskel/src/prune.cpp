@@ -13,14 +13,18 @@ double prune_length_for(const PruneOptions& options, double band_width) {
 std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const PruneOptions& options) {
   const double min_length = prune_length_for(options, band_width);
   std::size_t removed_total = 0;
+  auto& g = skeleton.graph;
+  const std::size_t n = boost::num_vertices(g);
+  // Removed nodes are cut loose after each round and dropped from the graph once, at the end: the
+  // node ids keep their order, so each round sees what it would in a graph compacted every round.
+  std::vector<bool> keep(n, true);
+  std::size_t alive = n;
   for (;;) {
-    auto& g = skeleton.graph;
-    const std::size_t n = boost::num_vertices(g);
-    if (n < 3) break;
+    if (alive < 3) break;
     const auto parent = parents_from_root(g, skeleton.root);
     std::vector<std::vector<NodeId>> children(n);
     for (NodeId v = 0; v < n; ++v)
-      if (v != skeleton.root) children[parent[v]].push_back(v);
+      if (v != skeleton.root && keep[v]) children[parent[v]].push_back(v);
 
     // Every leaf branch: its nodes from the tip down to (not including) the fork, and its length.
     struct Leaf {
@@ -30,7 +34,7 @@ std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const Pr
     };
     std::vector<std::vector<Leaf>> leaves_at(n);
     for (NodeId v = 0; v < n; ++v) {
-      if (v == skeleton.root || !children[v].empty()) continue;
+      if (v == skeleton.root || !keep[v] || !children[v].empty()) continue;
       Leaf leaf{v, {}, 0.0};
       NodeId u = v;
       for (;;) {
@@ -71,7 +75,7 @@ std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const Pr
       return segments;
     };
 
-    std::vector<bool> keep(n, true);
+    std::vector<NodeId> cut;
     std::size_t removed = 0;
     std::vector<double> radii;
     for (NodeId fork = 0; fork < n; ++fork) {
@@ -104,15 +108,18 @@ std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const Pr
           auto& pts = g[fork].points;
           pts.insert(pts.end(), g[u].points.begin(), g[u].points.end());
           keep[u] = false;
+          cut.push_back(u);
         }
         ++removed;
       }
       std::sort(g[fork].points.begin(), g[fork].points.end());
     }
     if (removed == 0) break;
-    compact_nodes(skeleton, keep);
+    for (auto u : cut) boost::clear_vertex(u, g);
+    alive -= cut.size();
     removed_total += removed;
   }
+  if (removed_total > 0) compact_nodes(skeleton, keep);
   return removed_total;
 }
 
