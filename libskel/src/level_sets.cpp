@@ -212,7 +212,8 @@ Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, c
   std::size_t kept = 0;
   for (std::size_t k = 0; k < m; ++k)
     if (owner(static_cast<std::uint32_t>(k)) == k) node_id[k] = static_cast<std::int64_t>(kept++);
-  skeleton.graph = SkeletonGraph(kept);
+  SkeletonGraph sized(kept);
+  swap_graphs(skeleton.graph, sized);
   for (std::size_t k = 0; k < m; ++k)
     if (node_id[k] >= 0) skeleton[static_cast<NodeId>(node_id[k])] = std::move(nodes[k]);
   for (std::size_t k = 0; k < m; ++k)

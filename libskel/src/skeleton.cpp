@@ -134,6 +134,35 @@ double total_length(const SkeletonGraph& graph) {
   return length;
 }
 
+void swap_graphs(SkeletonGraph& a, SkeletonGraph& b) noexcept {
+  a.m_vertices.swap(b.m_vertices);
+  a.m_edges.swap(b.m_edges);
+}
+
+Skeleton::Skeleton(Skeleton&& other) noexcept
+    : root(other.root), offset(other.offset), noise_points(std::move(other.noise_points)), left_out(other.left_out) {
+  swap_graphs(graph, other.graph);
+  other.root = 0;
+  other.offset.setZero();
+  other.left_out = LeftOut();
+}
+
+Skeleton& Skeleton::operator=(Skeleton&& other) noexcept {
+  if (this == &other) return *this;
+  SkeletonGraph old;  // this skeleton's graph, dropped on return
+  swap_graphs(old, graph);
+  swap_graphs(graph, other.graph);
+  root = other.root;
+  offset = other.offset;
+  noise_points = std::move(other.noise_points);
+  other.noise_points.clear();
+  left_out = other.left_out;
+  other.root = 0;
+  other.offset.setZero();
+  other.left_out = LeftOut();
+  return *this;
+}
+
 std::vector<std::int64_t> compact_nodes(Skeleton& skeleton, const std::vector<bool>& keep) {
   auto& old = skeleton.graph;
   const std::size_t n = boost::num_vertices(old);
@@ -148,7 +177,7 @@ std::vector<std::int64_t> compact_nodes(Skeleton& skeleton, const std::vector<bo
     const auto a = remap[boost::source(e, old)], b = remap[boost::target(e, old)];
     if (a >= 0 && b >= 0) boost::add_edge(static_cast<NodeId>(a), static_cast<NodeId>(b), fresh);
   }
-  skeleton.graph = std::move(fresh);
+  swap_graphs(skeleton.graph, fresh);  // the old graph goes with `fresh`
   if (skeleton.root < n && remap[skeleton.root] >= 0) skeleton.root = static_cast<NodeId>(remap[skeleton.root]);
   return remap;
 }

@@ -21,7 +21,8 @@ Skeleton smooth_skeleton(Skeleton&& skeleton, const SmoothOptions& options) {
   const int k = options.samples_per_edge;
   const auto order = n == 0 ? std::vector<NodeId>{} : bfs_order(g, skeleton.root);
   // Every node made at once: the input's, then k on each edge from the root outwards.
-  out.graph = SkeletonGraph(n + (order.empty() ? 0 : static_cast<std::size_t>(k) * (order.size() - 1)));
+  SkeletonGraph sized(n + (order.empty() ? 0 : static_cast<std::size_t>(k) * (order.size() - 1)));
+  swap_graphs(out.graph, sized);
   for (NodeId v = 0; v < n; ++v) {  // positions and radii stay in `g` for the splines below
     out[v].position = g[v].position;
     out[v].radius = g[v].radius;

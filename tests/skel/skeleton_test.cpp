@@ -25,6 +25,44 @@ Skeleton small_tree() {
   return s;
 }
 
+TEST(Skeleton, MovesTakeTheGraphWithoutCopyingIt) {
+  Skeleton a = small_tree();
+  a.root = 3;
+  a.offset = Eigen::Vector3d(1, 2, 3);
+  a.noise_points = {7, 9};
+  a.left_out.outliers = 2;
+  const Skeleton copy = a;
+  const SkeletonNode* node = &a[2];
+  const std::uint32_t* points = a[2].points.data();
+
+  Skeleton b(std::move(a));
+  EXPECT_EQ(&b[2], node);  // the very nodes, not copies
+  EXPECT_EQ(b[2].points.data(), points);
+  EXPECT_EQ(b.node_count(), copy.node_count());
+  EXPECT_EQ(b.edge_count(), copy.edge_count());
+  EXPECT_EQ(b.root, 3u);
+  EXPECT_EQ(b.offset, copy.offset);
+  EXPECT_EQ(b.noise_points, copy.noise_points);
+  EXPECT_EQ(b.left_out.outliers, 2u);
+  EXPECT_TRUE(is_tree(b.graph));
+  EXPECT_EQ(count_branch_points(b.graph), 1u);
+  EXPECT_EQ(a.node_count(), 0u);  // NOLINT(bugprone-use-after-move): moved from, left empty
+  EXPECT_TRUE(a.noise_points.empty());
+
+  Skeleton c = small_tree();
+  c = std::move(b);
+  EXPECT_EQ(&c[2], node);
+  EXPECT_EQ(c.root, 3u);
+  EXPECT_EQ(c.noise_points, copy.noise_points);
+  EXPECT_EQ(count_endpoints(c.graph), 3u);
+  EXPECT_EQ(b.node_count(), 0u);  // NOLINT(bugprone-use-after-move)
+  // The edges still name the right nodes: adding to the moved graph works.
+  const NodeId extra = add_node(c, SkeletonNode{});
+  boost::add_edge(extra, 4, c.graph);
+  EXPECT_TRUE(is_tree(c.graph));
+  EXPECT_EQ(count_endpoints(c.graph), 3u);
+}
+
 TEST(Skeleton, RecentreOffsetKeepsTheWorldPositions) {
   Skeleton s = small_tree();
   s.offset = Eigen::Vector3d(600000.0, 5200000.0, 100.0);

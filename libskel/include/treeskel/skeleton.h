@@ -45,11 +45,25 @@ struct Skeleton {
   std::vector<std::uint32_t> noise_points;          ///< input points assigned to no node
   LeftOut left_out;                                  ///< how many points were left out, by reason
 
+  Skeleton() = default;
+  Skeleton(const Skeleton&) = default;
+  Skeleton& operator=(const Skeleton&) = default;
+  /// Moves take the graph in constant time (`swap_graphs`); the skeleton moved from is left empty.
+  /// (Every member is moved: a member added here needs adding to both.)
+  Skeleton(Skeleton&& other) noexcept;
+  Skeleton& operator=(Skeleton&& other) noexcept;
+
   std::size_t node_count() const { return boost::num_vertices(graph); }
   std::size_t edge_count() const { return boost::num_edges(graph); }
   SkeletonNode& operator[](NodeId v) { return graph[v]; }
   const SkeletonNode& operator[](NodeId v) const { return graph[v]; }
 };
+
+/// Exchanges the nodes and edges of two graphs in constant time. Boost 1.74's adjacency_list declares
+/// a copy constructor and copy assignment and so has no move (a graph "moved" is copied node by node,
+/// every node's point list with it), and its swap() makes three copies; this swaps its two containers,
+/// whose edge iterators stay valid.
+void swap_graphs(SkeletonGraph& a, SkeletonGraph& b) noexcept;
 
 /// Adds a node and returns its id.
 NodeId add_node(Skeleton& skeleton, const SkeletonNode& node);
