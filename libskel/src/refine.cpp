@@ -4,7 +4,9 @@
 #include "treeskel/level_sets.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -163,11 +165,15 @@ std::size_t refine_topology(Skeleton& skeleton, const PointCloud& cloud, const R
   // Forks are refined from the tips down, and a fork's refinement can change its parent's children.
   // Every fork is planned at once (in parallel) from the skeleton as it is; going down, a plan whose
   // fork's children have changed since is made again, so the result is that of one fork at a time.
+  // On one thread nothing is planned ahead (a plan made again would be work lost).
   std::vector<ForkPlan> plans(order.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 4), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i)
-      plans[i] = plan_fork(g, order[i], children_of(g, order[i], parent[order[i]]), cloud, options);
-  });
+  const bool ahead = tbb::this_task_arena::max_concurrency() > 1 &&
+                     tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1;
+  if (ahead)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 4), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+        plans[i] = plan_fork(g, order[i], children_of(g, order[i], parent[order[i]]), cloud, options);
+    });
 
   std::vector<bool> keep(n0, true);
   std::size_t added = 0;
@@ -175,7 +181,7 @@ std::size_t refine_topology(Skeleton& skeleton, const PointCloud& cloud, const R
     const NodeId q = order[i];
     const NodeId up = parent[q];
     auto now = children_of(g, q, up);
-    if (!plans[i].still_fits(g, q, now)) plans[i] = plan_fork(g, q, std::move(now), cloud, options);
+    if (!ahead || !plans[i].still_fits(g, q, now)) plans[i] = plan_fork(g, q, std::move(now), cloud, options);
     ForkPlan& plan = plans[i];
     if (plan.splits == 0) continue;
     const std::size_t k = plan.children.size();
