@@ -86,7 +86,7 @@ Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, c
   // has none. Every other one has at least its lowest cell's shortest-path predecessor below it.
   std::vector<std::int64_t> below(m, -1);
   std::vector<std::int64_t> comp_band(m);
-  std::vector<bool> has_pred(m, true);
+  std::vector<std::uint8_t> has_pred(m, 1);  // bytes, not bits: written from several threads
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 64), [&](const auto& range) {
     std::vector<std::pair<std::int64_t, std::uint32_t>> links;  // (lower component, edges)
     for (std::size_t k = range.begin(); k != range.end(); ++k) {
@@ -96,7 +96,7 @@ Skeleton level_set_skeleton(const PointCloud& cloud, const OctreeCells& cells, c
       comp_band[k] = band[lowest];
       const auto pred = geodesic.predecessor[lowest];
       if (pred < 0) {
-        has_pred[k] = false;
+        has_pred[k] = 0;
         continue;
       }
       links.clear();
