@@ -139,28 +139,20 @@ void swap_graphs(SkeletonGraph& a, SkeletonGraph& b) noexcept {
   a.m_edges.swap(b.m_edges);
 }
 
-Skeleton::Skeleton(Skeleton&& other) noexcept
-    : root(other.root), offset(other.offset), noise_points(std::move(other.noise_points)), left_out(other.left_out) {
-  swap_graphs(graph, other.graph);
-  other.root = 0;
-  other.offset.setZero();
-  other.left_out = LeftOut();
-}
+Skeleton::Skeleton(Skeleton&& other) noexcept { swap(other); }
 
 Skeleton& Skeleton::operator=(Skeleton&& other) noexcept {
-  if (this == &other) return *this;
-  SkeletonGraph old;  // this skeleton's graph, dropped on return
-  swap_graphs(old, graph);
-  swap_graphs(graph, other.graph);
-  root = other.root;
-  offset = other.offset;
-  noise_points = std::move(other.noise_points);
-  other.noise_points.clear();
-  left_out = other.left_out;
-  other.root = 0;
-  other.offset.setZero();
-  other.left_out = LeftOut();
+  Skeleton taken(std::move(other));  // leaves `other` empty; this skeleton's old contents go with `taken`
+  swap(taken);
   return *this;
+}
+
+void Skeleton::swap(Skeleton& other) noexcept {
+  swap_graphs(graph, other.graph);
+  std::swap(root, other.root);
+  std::swap(offset, other.offset);
+  noise_points.swap(other.noise_points);
+  std::swap(left_out, other.left_out);
 }
 
 std::vector<std::int64_t> compact_nodes(Skeleton& skeleton, const std::vector<bool>& keep) {

@@ -49,9 +49,10 @@ struct Skeleton {
   Skeleton(const Skeleton&) = default;
   Skeleton& operator=(const Skeleton&) = default;
   /// Moves take the graph in constant time (`swap_graphs`); the skeleton moved from is left empty.
-  /// (Every member is moved: a member added here needs adding to both.)
   Skeleton(Skeleton&& other) noexcept;
   Skeleton& operator=(Skeleton&& other) noexcept;
+  /// Exchanges every member with `other` (a member added above needs adding here).
+  void swap(Skeleton& other) noexcept;
 
   std::size_t node_count() const { return boost::num_vertices(graph); }
   std::size_t edge_count() const { return boost::num_edges(graph); }
