@@ -122,7 +122,7 @@ public:
       for (int dz = -r; dz <= r; ++dz)
         for (int dy = -r; dy <= r; ++dy) {
           const bool face = std::abs(dz) == r || std::abs(dy) == r;
-          for (int dx = -r; dx <= r; dx += face ? 1 : 2 * std::max(r, 1))
+          for (int dx = -r; dx <= r; dx += face ? 1 : 2 * r)  // off the y and z faces, the two x faces only
             read(home.x() + dx, home.y() + dy, home.z() + dz);
         }
       // Every block not read yet is r + 1 blocks away or more: its medians are at least r blocks off.

@@ -48,12 +48,11 @@ void sort_keyed(std::vector<std::pair<std::uint64_t, std::uint32_t>>& keyed, int
   constexpr int kTop = 12;
   constexpr std::size_t kBuckets = std::size_t{1} << kTop;
   const int shift = bits - kTop;
-  const std::size_t half = n / 2;
+  const std::size_t bounds[3] = {0, n / 2, n};  // half t is keyed[bounds[t] .. bounds[t + 1])
   std::vector<std::size_t> count[2] = {std::vector<std::size_t>(kBuckets, 0), std::vector<std::size_t>(kBuckets, 0)};
-  const auto part = [&](int t) { return std::pair<std::size_t, std::size_t>(t == 0 ? 0 : half, t == 0 ? half : n); };
   tbb::parallel_for(0, 2, [&](int t) {
     auto& c = count[t];
-    for (std::size_t i = part(t).first; i < part(t).second; ++i) ++c[keyed[i].first >> shift];
+    for (std::size_t i = bounds[t]; i < bounds[t + 1]; ++i) ++c[keyed[i].first >> shift];
   });
   std::vector<std::size_t> start(kBuckets + 1);
   std::size_t sum = 0;
@@ -68,7 +67,7 @@ void sort_keyed(std::vector<std::pair<std::uint64_t, std::uint32_t>>& keyed, int
   std::vector<std::pair<std::uint64_t, std::uint32_t>> dealt(n);
   tbb::parallel_for(0, 2, [&](int t) {
     auto& next = count[t];
-    for (std::size_t i = part(t).first; i < part(t).second; ++i) dealt[next[keyed[i].first >> shift]++] = keyed[i];
+    for (std::size_t i = bounds[t]; i < bounds[t + 1]; ++i) dealt[next[keyed[i].first >> shift]++] = keyed[i];
   });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kBuckets, 1), [&](const auto& range) {
     for (std::size_t b = range.begin(); b != range.end(); ++b) {
