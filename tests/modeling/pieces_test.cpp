@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 namespace treeskel::modeling::detail {
@@ -106,6 +107,24 @@ TEST(Pieces, FacesTouchingBoxesAsTestingEachPair) {
   EXPECT_GT(large.size(), small.size());
   EXPECT_EQ(large, brute(boxes));
   EXPECT_TRUE(faces_touching(m, {}).empty());
+  // Boxes of many sizes (each goes to the grid of its size) and long faces (queries over many cells).
+  std::uniform_real_distribution<double> scale(-3.0, 0.7);
+  std::vector<Eigen::AlignedBox3d> mixed;
+  for (int i = 0; i < 60; ++i) {
+    const double s = std::pow(10.0, scale(rng));
+    mixed.push_back(box({at(rng), at(rng), at(rng)}, {s * side(rng), s, s * side(rng)}));
+  }
+  for (int i = 0; i < 40; ++i) {
+    const TreeMesh::Point o(at(rng), at(rng), at(rng));
+    const auto a = m.add_vertex(o), b = m.add_vertex(o + TreeMesh::Point(6.0 * step(rng), 0.01, 0.0)),
+               c = m.add_vertex(o + TreeMesh::Point(0.0, 0.01, 8.0 * step(rng)));
+    m.add_face(a, b, c);
+  }
+  const auto found = faces_touching(m, mixed);
+  EXPECT_GT(found.size(), 10u);
+  EXPECT_EQ(found, brute(mixed));
+  mixed.push_back(box({-1e6, 4.0, -1e6}, {2e6, 0.1, 2e6}));  // a slab over the whole mesh
+  EXPECT_EQ(faces_touching(m, mixed), brute(mixed));
 }
 
 TEST(Pieces, FloatsOfTheFrame) {
