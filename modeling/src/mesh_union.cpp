@@ -50,65 +50,6 @@ double coordinate(const K::FT& x) {
   return CGAL::to_double(x.exact());
 }
 
-/// Where two parts of a union touch at a single point, a vertex holds two fans of faces (each fan
-/// the faces around it that share edges), which OpenMesh cannot hold (it would drop faces and leave
-/// holes): each fan after the first gets a copy of the vertex.
-void split_pinched_vertices(std::vector<std::array<double, 3>>& points, std::vector<std::array<std::size_t, 3>>& faces) {
-  // The faces around each vertex, in face order (a CSR list: one allocation, not one per vertex).
-  const std::size_t n = points.size();
-  std::vector<std::size_t> first(n + 1, 0), around(3 * faces.size());
-  for (const auto& f : faces)
-    for (std::size_t v : f) ++first[v + 1];
-  std::partial_sum(first.begin(), first.end(), first.begin());
-  {
-    std::vector<std::size_t> at(first.begin(), first.end() - 1);
-    for (std::size_t f = 0; f < faces.size(); ++f)
-      for (std::size_t v : faces[f]) around[at[v]++] = f;
-  }
-  std::vector<std::pair<std::size_t, std::size_t>> ends;  // (other end of an edge from v, face i)
-  std::vector<std::size_t> fan, copy;                     // per face around v: its fan, the fan's vertex
-  auto root = [&](std::size_t i) {
-    while (fan[i] != i) i = fan[i] = fan[fan[i]];
-    return i;
-  };
-  for (std::size_t v = 0; v < n; ++v) {
-    const std::size_t* fs = around.data() + first[v];
-    const std::size_t k = first[v + 1] - first[v];
-    if (k < 2) continue;
-    // Faces around v that share an edge from v are in one fan.
-    ends.clear();
-    for (std::size_t i = 0; i < k; ++i)
-      for (std::size_t w : faces[fs[i]])
-        if (w != v) ends.emplace_back(w, i);
-    std::sort(ends.begin(), ends.end());
-    fan.resize(k);
-    std::iota(fan.begin(), fan.end(), std::size_t{0});
-    std::size_t fans = k;
-    for (std::size_t e = 1; e < ends.size(); ++e)
-      if (ends[e].first == ends[e - 1].first) {
-        const std::size_t a = root(ends[e - 1].second), b = root(ends[e].second);
-        if (a != b) {
-          fan[std::max(a, b)] = std::min(a, b);
-          --fans;
-        }
-      }
-    if (fans == 1) continue;  // one fan: a manifold vertex, as nearly all are
-    // The fan of the first face keeps v; each other fan, in the order of its first face, a copy.
-    constexpr auto kUnset = std::numeric_limits<std::size_t>::max();
-    copy.assign(k, kUnset);
-    bool first_fan = true;
-    for (std::size_t i = 0; i < k; ++i) {
-      std::size_t& to = copy[root(i)];
-      if (to == kUnset) {
-        to = first_fan ? v : points.size();
-        if (!first_fan) points.push_back(points[v]);
-        first_fan = false;
-      }
-      for (auto& c : faces[fs[i]])
-        if (c == v) c = to;
-    }
-  }
-}
 
 /// The mesh with its points rounded to 32-bit floats in the frame `offset` leads to, in a canonical
 /// order (vertices by position, faces by their vertices): corefinement's own order differs from run
@@ -242,6 +183,50 @@ bool unite_into(Surface& whole, Surface piece) {
 }
 
 }  // namespace
+
+void split_pinched_vertices(std::vector<std::array<double, 3>>& points, std::vector<std::array<std::size_t, 3>>& faces) {
+  // The faces around each vertex, in face order (a CSR list: one allocation, not one per vertex).
+  const std::size_t n = points.size();
+  std::vector<std::size_t> first(n + 1, 0), around(3 * faces.size());
+  for (const auto& f : faces)
+    for (std::size_t v : f) ++first[v + 1];
+  std::partial_sum(first.begin(), first.end(), first.begin());
+  {
+    std::vector<std::size_t> at(first.begin(), first.end() - 1);
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      for (std::size_t v : faces[f]) around[at[v]++] = f;
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> ends;  // (other end of an edge from v, face i)
+  std::vector<std::size_t> copy;                          // per fan (by its representative): its vertex
+  for (std::size_t v = 0; v < n; ++v) {
+    const std::size_t* fs = around.data() + first[v];
+    const std::size_t k = first[v + 1] - first[v];
+    if (k < 2) continue;
+    // Faces around v that share an edge from v are in one fan.
+    ends.clear();
+    for (std::size_t i = 0; i < k; ++i)
+      for (std::size_t w : faces[fs[i]])
+        if (w != v) ends.emplace_back(w, i);
+    std::sort(ends.begin(), ends.end());
+    DisjointSets<std::size_t> fan(k);
+    std::size_t fans = k;
+    for (std::size_t e = 1; e < ends.size(); ++e)
+      if (ends[e].first == ends[e - 1].first && fan.unite(ends[e - 1].second, ends[e].second)) --fans;
+    if (fans == 1) continue;  // one fan: a manifold vertex, as nearly all are
+    // The fan of the first face keeps v; each other fan, in the order of its first face, a copy.
+    constexpr auto kUnset = std::numeric_limits<std::size_t>::max();
+    copy.assign(k, kUnset);
+    for (std::size_t i = 0; i < k; ++i) {
+      std::size_t& to = copy[fan.find(i)];
+      if (to == kUnset) {  // the first face of a fan (face 0 starts the first)
+        to = i == 0 ? v : points.size();
+        if (i != 0) points.push_back(points[v]);
+      }
+      for (auto& c : faces[fs[i]])
+        if (c == v) c = to;
+    }
+  }
+}
 
 /// Whether moving `from` and `to` onto `mid` would turn one of their faces (other than the two the
 /// collapse removes, and slivers no taller than `weld`) by more than 60 degrees: such a collapse

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -47,6 +48,12 @@ std::size_t weld_short_edges(TreeMesh& mesh, double weld, const std::vector<Eige
 /// leave a sliver of the union crossing its neighbour: its shortest edge is where it folds.
 std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_t>& faces, double max_length,
                                    double sliver = 0.0);
+
+/// Where two parts of a union touch at a single point, a vertex holds two fans of faces (each fan
+/// the faces around it that share edges), which OpenMesh cannot hold (it would drop faces and leave
+/// holes): the fan of the vertex's first face keeps it, and each other fan, in the order of its
+/// first face, gets a copy appended to `points`. `faces` index `points`.
+void split_pinched_vertices(std::vector<std::array<double, 3>>& points, std::vector<std::array<std::size_t, 3>>& faces);
 
 /// Unites `pieces` with `base`. Each input must be closed, manifold and free of self-intersections.
 /// Pieces that cross or hold one another are united among themselves first (at most 8 a group); then

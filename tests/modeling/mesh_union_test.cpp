@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+
 namespace treeskel::modeling {
 namespace {
 
@@ -50,6 +52,69 @@ TEST(MeshUnion, PiecesThatCrossAreUnitedTogetherFirst) {
   EXPECT_EQ(united.failed, 0u);
   EXPECT_EQ(united.batches, 2u);  // low with high, then all with the trunk
   expect_valid(united.mesh);
+}
+
+/// A closed tetrahedron, its faces turned outward.
+TreeMesh tetrahedron(const TreeMesh::Point& p, const TreeMesh::Point& q, const TreeMesh::Point& r, const TreeMesh::Point& t) {
+  TreeMesh m;
+  std::array<TreeMesh::VertexHandle, 4> v{m.add_vertex(p), m.add_vertex(q), m.add_vertex(r), m.add_vertex(t)};
+  if (OpenMesh::dot(OpenMesh::cross(q - p, r - p), t - p) > 0) std::swap(v[1], v[2]);  // t below p, q, r's face
+  m.add_face(v[0], v[1], v[2]);
+  m.add_face(v[0], v[3], v[1]);
+  m.add_face(v[1], v[3], v[2]);
+  m.add_face(v[2], v[3], v[0]);
+  return m;
+}
+
+// A solid whose tip touches another's face at a single point: the union keeps both whole, closed
+// and manifold, the point twice (the tip, and the vertex corefinement puts in the face it touches),
+// not one vertex that two fans of faces would share.
+TEST(MeshUnion, SolidsTouchingAtAPointKeepEveryFace) {
+  using P = TreeMesh::Point;
+  const TreeMesh a = tetrahedron(P(0, 0, 0), P(1, 0, 0), P(0, 1, 0), P(0, 0, 1));
+  const TreeMesh b = tetrahedron(P(0.25, 0.25, 0), P(0.75, 0.25, -1), P(-0.25, 0.5, -1), P(0.25, -0.25, -1));
+  ASSERT_GT(check_mesh(a).volume, 0.0);
+  ASSERT_GT(check_mesh(b).volume, 0.0);
+  const auto united = detail::unite(a, {b}, 1e-9);
+  EXPECT_EQ(united.united, 1u);
+  const MeshCheck c = check_mesh(united.mesh);
+  EXPECT_EQ(c.boundary_edges, 0u);
+  EXPECT_EQ(c.non_manifold_vertices, 0u);
+  EXPECT_EQ(c.components, 2u);
+  EXPECT_NEAR(c.volume, check_mesh(a).volume + check_mesh(b).volume, 1e-12);
+  // The touching point twice: the face it cuts in three, and b's tip.
+  std::size_t at_tip = 0;
+  for (auto v : united.mesh.vertices()) at_tip += united.mesh.point(v) == P(0.25, 0.25, 0) ? 1 : 0;
+  EXPECT_EQ(at_tip, 2u);
+}
+
+// A vertex shared by fans of faces that share no edge from it is split, a copy per fan after the
+// first, in the order of the fans' first faces; a vertex with one fan stays as it is.
+TEST(MeshUnion, PinchedVerticesGetACopyPerFan) {
+  using Face = std::array<std::size_t, 3>;
+  auto tetrahedron_faces = [](std::size_t a, std::size_t b, std::size_t c, std::size_t d) {
+    return std::vector<Face>{{a, b, c}, {a, d, b}, {b, d, c}, {c, d, a}};
+  };
+  std::vector<std::array<double, 3>> points(10);
+  for (std::size_t i = 0; i < points.size(); ++i) points[i] = {double(i), 0.5 * double(i), 0.0};
+  std::vector<Face> faces;
+  for (const auto& part : {tetrahedron_faces(0, 1, 2, 3), tetrahedron_faces(4, 0, 5, 6), tetrahedron_faces(7, 8, 0, 9)})
+    faces.insert(faces.end(), part.begin(), part.end());
+  const std::vector<Face> before = faces;
+  detail::split_pinched_vertices(points, faces);
+  ASSERT_EQ(points.size(), 12u);
+  EXPECT_EQ(points[10], points[0]);
+  EXPECT_EQ(points[11], points[0]);
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t expected = before[f][k] != 0 ? before[f][k] : f < 4 ? 0 : f < 8 ? 10 : 11;
+      EXPECT_EQ(faces[f][k], expected) << "face " << f << " corner " << k;
+    }
+  std::vector<Face> one = tetrahedron_faces(0, 1, 2, 3);
+  std::vector<std::array<double, 3>> four(points.begin(), points.begin() + 4);
+  detail::split_pinched_vertices(four, one);
+  EXPECT_EQ(four.size(), 4u);
+  EXPECT_EQ(one, tetrahedron_faces(0, 1, 2, 3));
 }
 
 TEST(MeshUnion, WeldsOnlyEdgesShorterThanTheDistance) {
