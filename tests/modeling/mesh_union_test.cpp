@@ -88,6 +88,23 @@ TEST(MeshUnion, SolidsTouchingAtAPointKeepEveryFace) {
   EXPECT_EQ(at_tip, 2u);
 }
 
+// A piece wholly inside another (their surfaces apart) is one group with it, as a crossing piece is:
+// the two are united first, then with the trunk, rather than joined side by side into one
+// corefinement with the trunk.
+TEST(MeshUnion, APieceInsideAnotherIsUnitedWithItFirst) {
+  using P = TreeMesh::Point;
+  const TreeMesh trunk = sweep_mesh(test::straight(2.0, 0.1, 20));
+  const TreeMesh outer = limb(1.0, Eigen::Vector3d(1, 0, 1.5));
+  const double e = 0.004;  // well inside the limb (radius 0.03-0.04) around its axis at x = 0.6
+  const TreeMesh inner = tetrahedron(P(0.6, 0, 1.3), P(0.6 + e, 0, 1.3), P(0.6, e, 1.3), P(0.6, 0, 1.3 + e));
+  const auto united = detail::unite(trunk, {outer, inner}, 1e-6 * 2.0);
+  EXPECT_EQ(united.united, 2u);
+  EXPECT_EQ(united.failed, 0u);
+  EXPECT_EQ(united.batches, 2u);  // inner into outer, then the group with the trunk
+  expect_valid(united.mesh);
+  EXPECT_EQ(check_mesh(united.mesh).components, 1u);
+}
+
 // A vertex shared by fans of faces that share no edge from it is split, a copy per fan after the
 // first, in the order of the fans' first faces; a vertex with one fan stays as it is.
 TEST(MeshUnion, PinchedVerticesGetACopyPerFan) {
