@@ -50,7 +50,6 @@ double coordinate(const K::FT& x) {
   return CGAL::to_double(x.exact());
 }
 
-
 /// The mesh with its points rounded to 32-bit floats in the frame `offset` leads to, in a canonical
 /// order (vertices by position, faces by their vertices): corefinement's own order differs from run
 /// to run, the result must not.

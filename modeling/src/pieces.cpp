@@ -103,7 +103,7 @@ class BoxGrid {
     std::vector<double> sides;
     for (const auto& b : boxes) sides.push_back(b.sizes().maxCoeff());
     std::nth_element(sides.begin(), sides.begin() + static_cast<std::ptrdiff_t>(sides.size() / 2), sides.end());
-    double cell = std::max(sides[sides.size() / 2], 1e-12);
+    const double cell = std::max(sides[sides.size() / 2], 1e-12);
     for (std::size_t i = 0; i < boxes.size(); ++i) {
       bound_.extend(boxes[i]);
       std::size_t level = 0;
