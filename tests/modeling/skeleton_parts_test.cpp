@@ -34,17 +34,18 @@ TEST(SkeletonParts, PathOfCopiesPositionsAndRadiiInOrder) {
 
 // A piece starts at the fork its branch leaves, with the branch's first radius there, and one fork
 // radius further back along the parent's axis (a narrow fork can lie outside its own join's hull;
-// the parent's tube holds that stub).
+// the parent's tube holds that stub). The stub is at most half as thick as the parent: a stub as
+// thick as the parent lay a hair inside its tube, which made the union crawl.
 TEST(SkeletonParts, PieceOfAnArmStartsBehindItsForkWithTheArmsRadius) {
   const Skeleton s = test::y_shape(0.05, 0.6, 20);
+  ASSERT_GT(s[21].radius, 0.5 * s[20].radius);  // arms thicker than half the trunk
   const ChainTree tree = build_chains(s);
   const Skeleton piece = piece_of(s, tree, 30);  // any node of the first arm
   EXPECT_EQ(piece.node_count(), 22u);           // the stub, the fork and the arm's 20 nodes
   EXPECT_TRUE(is_tree(piece.graph));
   EXPECT_TRUE(piece[piece.root].position.isApprox(s[20].position - Eigen::Vector3d(0, 0, s[20].radius), 1e-12));
-  EXPECT_DOUBLE_EQ(piece[piece.root].radius, s[21].radius);
-  EXPECT_LT(piece[piece.root].radius, s[20].radius);
-  // The fork itself follows the stub, with the arm's radius too.
+  EXPECT_DOUBLE_EQ(piece[piece.root].radius, 0.5 * s[20].radius);
+  // The fork itself follows the stub, with the arm's radius.
   bool fork_found = false;
   for (NodeId v = 0; v < piece.node_count(); ++v)
     if (piece[v].position == s[20].position) {
@@ -53,6 +54,18 @@ TEST(SkeletonParts, PieceOfAnArmStartsBehindItsForkWithTheArmsRadius) {
       EXPECT_EQ(boost::degree(v, piece.graph), 2u);
     }
   EXPECT_TRUE(fork_found);
+}
+
+TEST(SkeletonParts, PieceOfAThinArmHasAStubAsThickAsTheArm) {
+  Skeleton s = test::straight(1.0, 0.05, 20);
+  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
+  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
+  const NodeId first = test::add_run(s, fork, Eigen::Vector3d(0.025, 0, 1.025), 0.01, 1);  // thin from the start
+  const NodeId tip = test::add_run(s, first, Eigen::Vector3d(0.5, 0, 1.5), 0.01, 19);
+  const Skeleton piece = piece_of(s, build_chains(s), tip);
+  EXPECT_EQ(piece.node_count(), 22u);
+  EXPECT_DOUBLE_EQ(piece[piece.root].radius, 0.01);
+  EXPECT_TRUE(piece[piece.root].position.isApprox(s[fork].position - Eigen::Vector3d(0, 0, s[fork].radius), 1e-12));
 }
 
 TEST(SkeletonParts, ANarrowBranchIsReattachedWhereItLeavesTheThickerOne) {
