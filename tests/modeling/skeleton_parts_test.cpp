@@ -36,7 +36,7 @@ TEST(SkeletonParts, PathOfCopiesPositionsAndRadiiInOrder) {
 // radius further back along the parent's axis (a narrow fork can lie outside its own join's hull;
 // the parent's tube holds that stub). The stub is at most half as thick as the parent: a stub as
 // thick as the parent lay a hair inside its tube, which made the union crawl.
-TEST(SkeletonParts, PieceOfAnArmStartsBehindItsForkWithTheArmsRadius) {
+TEST(SkeletonParts, PieceOfAThickArmStartsBehindItsForkWithAStubHalfTheParentsRadius) {
   const Skeleton s = test::y_shape(0.05, 0.6, 20);
   ASSERT_GT(s[21].radius, 0.5 * s[20].radius);  // arms thicker than half the trunk
   const ChainTree tree = build_chains(s);
