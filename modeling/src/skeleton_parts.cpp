@@ -53,6 +53,7 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
   std::vector<std::vector<std::size_t>> leaving(n);
   enum Role : char { none_role, moved_role, host_role };
   std::vector<Role> role(n, none_role);
+  std::vector<bool> anchor(n, false);  // a moved branch hangs from it: it stays
   for (std::size_t c = 0; c < t.chains.size(); ++c) leaving[t.chains[c].nodes.front()].push_back(c);
   for (NodeId v = 0; v < n; ++v) {
     if (leaving[v].size() < 2) continue;
@@ -84,6 +85,10 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
         for (std::size_t h = 1; h < host.size(); ++h)
           if ((sk[host[h]].position - q).squaredNorm() < (sk[host[k]].position - q).squaredNorm()) k = h;
         if (!keep[host[k]]) break;
+        // The stretch the twig leaves behind goes; not if another moved branch hangs from it (a
+        // fork met later may move the arm that an earlier fork's twig was hung on).
+        if (std::any_of(twig.begin() + 1, twig.begin() + static_cast<std::ptrdiff_t>(m), [&](NodeId h) { return anchor[h]; })) break;
+        anchor[host[k]] = true;
         removed_edges.emplace_back(twig[m - 1], twig[m]);
         added_edges.emplace_back(host[k], twig[m]);
         for (std::size_t h = 1; h < m; ++h) keep[twig[h]] = false;

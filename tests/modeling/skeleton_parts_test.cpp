@@ -93,5 +93,56 @@ TEST(SkeletonParts, ANarrowBranchIsReattachedWhereItLeavesTheThickerOne) {
   for (std::size_t v = 0; v < same.size(); ++v) EXPECT_EQ(same[v], static_cast<std::int64_t>(v));
 }
 
+// Two moves that meet: at fork v, a twig running back down its parent branch B is hung on B near B's
+// start; at fork u (met later: its id is higher), B itself runs inside the thicker arm A at first, and
+// moving it would drop the stretch the twig now hangs from. B stays; the skeleton stays one tree (a
+// leafy broadleaf's skeleton made the mesh fail with "not a tree" here).
+TEST(SkeletonParts, ABranchThatATwigWasHungOnIsNotMoved) {
+  Skeleton s;
+  auto node = [&](const Eigen::Vector3d& p, double r) {
+    SkeletonNode n;
+    n.position = p;
+    n.radius = r;
+    return add_node(s, n);
+  };
+  auto edge = [&](NodeId a, NodeId b) { boost::add_edge(a, b, s.graph); };
+  const Eigen::Vector3d base(0, 0, 1), along(std::sin(0.1), 0, std::cos(0.1)), side(std::cos(0.1), 0, -std::sin(0.1));
+  const NodeId v = node(base + 2.0 * along, 0.03);  // the fork B ends at, first
+  s.root = node({0, 0, 0}, 0.1);
+  const NodeId u = node(base, 0.1);
+  edge(s.root, u);
+  NodeId prev = u;
+  for (int k = 1; k <= 10; ++k) {  // A: thick, straight up
+    const NodeId a = node(base + Eigen::Vector3d(0, 0, 0.1 * k), 0.09);
+    edge(prev, a);
+    prev = a;
+  }
+  const NodeId b1 = node(base + 0.3 * along, 0.03), b2 = node(base + 1.5 * along, 0.03);  // B: inside A, then out
+  edge(u, b1);
+  edge(b1, b2);
+  edge(b2, v);
+  prev = v;
+  for (int k = 1; k <= 3; ++k) {  // on from v
+    const NodeId c = node(base + (2.0 + 0.2 * k) * along, 0.03);
+    edge(prev, c);
+    prev = c;
+  }
+  // The twig: back down inside B, out beside b1.
+  const NodeId d1 = node(base + 1.75 * along + 0.01 * side, 0.01), d2 = node(base + 1.0 * along + 0.02 * side, 0.01);
+  const NodeId d3 = node(base + 0.3 * along + 0.05 * side, 0.01), d4 = node(base + 0.3 * along + 0.25 * side, 0.01);
+  edge(v, d1);
+  edge(d1, d2);
+  edge(d2, d3);
+  edge(d3, d4);
+  ASSERT_TRUE(is_tree(s.graph));
+  std::size_t moved = 0;
+  const std::vector<std::int64_t> id = relocate_narrow_branches(s, 0.7, moved);
+  EXPECT_TRUE(is_tree(s.graph));
+  EXPECT_EQ(moved, 1u);
+  EXPECT_GE(id[b1], 0) << "the stretch the twig hangs from stays";
+  EXPECT_EQ(id[d1], -1);  // the twig's hidden start is gone
+  EXPECT_TRUE(boost::edge(static_cast<NodeId>(id[b1]), static_cast<NodeId>(id[d3]), s.graph).second);
+}
+
 }  // namespace
 }  // namespace treeskel::modeling::detail
