@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <array>
 #include <map>
 #include <memory>
@@ -358,32 +359,116 @@ MeshPlacement write_mesh(const fs::path& path, const modeling::TreeMesh& mesh, c
   return placed;
 }
 
-modeling::TreeMesh read_mesh(const fs::path& path) {
-  Assimp::Importer importer;
-  // Copies of a position (STL keeps one per face) are joined here, by their exact coordinates, not
-  // by assimp's JoinIdenticalVertices: that step (assimp 5.2) crashed on a valid binary PLY of ours.
-  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_PreTransformVertices);
-  if (scene == nullptr) throw InputError(path.string() + ": " + importer.GetErrorString());
-  modeling::TreeMesh mesh;
-  std::map<std::array<ai_real, 3>, modeling::TreeMesh::VertexHandle> at;
-  for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
-    const aiMesh* m = scene->mMeshes[i];
-    if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-    std::vector<modeling::TreeMesh::VertexHandle> handles;
-    for (unsigned v = 0; v < m->mNumVertices; ++v) {
-      const aiVector3D& p = m->mVertices[v];
-      auto [it, fresh] = at.emplace(std::array<ai_real, 3>{p.x, p.y, p.z}, modeling::TreeMesh::VertexHandle());
-      if (fresh) it->second = mesh.add_vertex(modeling::TreeMesh::Point(p.x, p.y, p.z));
-      handles.push_back(it->second);
-    }
-    for (unsigned f = 0; f < m->mNumFaces; ++f) {
-      const aiFace& face = m->mFaces[f];
-      if (face.mNumIndices != 3) continue;
-      if (!mesh.add_face(handles[face.mIndices[0]], handles[face.mIndices[1]], handles[face.mIndices[2]]).is_valid())
-        throw InputError(path.string() + ": face " + std::to_string(f) + " makes the mesh non-manifold");
+namespace {
+
+/// Joins copies of a position (STL keeps one per face) by their exact coordinates, not by assimp's
+/// JoinIdenticalVertices: that step (assimp 5.2) crashed on a valid binary PLY of ours.
+class MeshBuilder {
+ public:
+  explicit MeshBuilder(const fs::path& path) : path_(path) {}
+  modeling::TreeMesh::VertexHandle vertex(const Eigen::Vector3d& p) {
+    auto [it, fresh] = at_.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, modeling::TreeMesh::VertexHandle());
+    if (fresh) it->second = mesh_.add_vertex(modeling::TreeMesh::Point(p.x(), p.y(), p.z()));
+    return it->second;
+  }
+  void face(modeling::TreeMesh::VertexHandle a, modeling::TreeMesh::VertexHandle b, modeling::TreeMesh::VertexHandle c,
+            std::size_t number) {
+    if (!mesh_.add_face(a, b, c).is_valid())
+      throw InputError(path_.string() + ": face " + std::to_string(number) + " makes the mesh non-manifold");
+  }
+  modeling::TreeMesh take() { return std::move(mesh_); }
+
+ private:
+  fs::path path_;
+  modeling::TreeMesh mesh_;
+  std::map<std::array<double, 3>, modeling::TreeMesh::VertexHandle> at_;
+};
+
+/// An OBJ file's triangles (polygons as fans), its coordinates read as doubles: assimp reads them as
+/// 32-bit floats, which at a georeferenced tree's UTM coordinates are centimetres apart and join
+/// distinct vertices.
+modeling::TreeMesh read_obj(const fs::path& path) {
+  const std::string text = read_whole_file(path);
+  MeshBuilder out(path);
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<modeling::TreeMesh::VertexHandle> handles;
+  std::size_t faces = 0, line_number = 0;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(start, end - start);
+    start = end + 1;
+    ++line_number;
+    auto bad = [&](const std::string& why) { return InputError(path.string() + ": line " + std::to_string(line_number) + ": " + why); };
+    if (line.rfind("v ", 0) == 0) {
+      const char* c = line.c_str() + 2;
+      Eigen::Vector3d p;
+      for (int k = 0; k < 3; ++k) {
+        char* next = nullptr;
+        p[k] = std::strtod(c, &next);
+        if (next == c) throw bad("a vertex needs three numbers");
+        c = next;
+      }
+      positions.push_back(p);
+      handles.push_back(out.vertex(p));
+    } else if (line.rfind("f ", 0) == 0) {
+      std::vector<modeling::TreeMesh::VertexHandle> corners;
+      const char* c = line.c_str() + 2;
+      while (*c) {
+        char* next = nullptr;
+        const long index = std::strtol(c, &next, 10);
+        if (next == c) break;
+        const long at = index > 0 ? index - 1 : static_cast<long>(positions.size()) + index;
+        if (index == 0 || at < 0 || at >= static_cast<long>(positions.size())) throw bad("a face names a vertex not given before it");
+        corners.push_back(handles[static_cast<std::size_t>(at)]);
+        c = next;
+        while (*c && *c != ' ' && *c != '\t' && *c != '\r') ++c;  // /texture/normal
+        while (*c == ' ' || *c == '\t' || *c == '\r') ++c;
+      }
+      if (corners.size() < 3) throw bad("a face needs three vertices");
+      for (std::size_t k = 1; k + 1 < corners.size(); ++k) out.face(corners[0], corners[k], corners[k + 1], faces);
+      ++faces;
     }
   }
-  return mesh;
+  return out.take();
+}
+
+}  // namespace
+
+modeling::TreeMesh read_mesh(const fs::path& path) {
+  if (extension_of(path) == "obj") return read_obj(path);
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(path.string(), 0);
+  if (scene == nullptr || scene->mRootNode == nullptr) throw InputError(path.string() + ": " + importer.GetErrorString());
+  // The nodes' transforms are applied in double precision to the positions as the file holds them:
+  // assimp's own pre-transform rounds a georeferenced glTF's world coordinates to 32-bit floats,
+  // centimetres apart, and joined distinct vertices.
+  MeshBuilder out(path);
+  std::function<void(const aiNode&, const Eigen::Matrix4d&)> visit = [&](const aiNode& node, const Eigen::Matrix4d& above) {
+    Eigen::Matrix4d local;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) local(r, c) = node.mTransformation[static_cast<unsigned>(r)][static_cast<unsigned>(c)];
+    const Eigen::Matrix4d to_world = above * local;
+    for (unsigned i = 0; i < node.mNumMeshes; ++i) {
+      const aiMesh* m = scene->mMeshes[node.mMeshes[i]];
+      if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+      std::vector<modeling::TreeMesh::VertexHandle> handles;
+      for (unsigned v = 0; v < m->mNumVertices; ++v) {
+        const aiVector3D& p = m->mVertices[v];
+        const Eigen::Vector4d w = to_world * Eigen::Vector4d(p.x, p.y, p.z, 1.0);
+        handles.push_back(out.vertex(w.head<3>() / w.w()));
+      }
+      for (unsigned f = 0; f < m->mNumFaces; ++f) {
+        const aiFace& face = m->mFaces[f];
+        if (face.mNumIndices != 3) continue;
+        out.face(handles[face.mIndices[0]], handles[face.mIndices[1]], handles[face.mIndices[2]], f);
+      }
+    }
+    for (unsigned c = 0; c < node.mNumChildren; ++c) visit(*node.mChildren[c], to_world);
+  };
+  visit(*scene->mRootNode, Eigen::Matrix4d::Identity());
+  return out.take();
 }
 
 void write_qsm_csv(const fs::path& path, const modeling::TreeMeasurements& measurements) {

@@ -128,6 +128,23 @@ TEST(MeshIo, GeoreferencedMeshesKeepMillimetres) {
   EXPECT_EQ(m[6], -1.0);  // column 1 (y) goes to -z
   EXPECT_EQ(m[9], 1.0);   // column 2 (z) goes to +y
 
+  // Read back as a reader meets them: every vertex apart (32-bit floats at UTM coordinates are
+  // centimetres apart, and joined distinct vertices of the files before), closed and manifold; the
+  // OBJ in the input's frame to the micrometre.
+  write_mesh(dir.path("t.glb"), mesh, frame);
+  for (const char* name : {"t.obj", "t.gltf", "t.glb"}) {
+    const modeling::TreeMesh back = read_mesh(dir.path(name));
+    EXPECT_EQ(back.n_vertices(), mesh.n_vertices()) << name;
+    const modeling::MeshCheck check = modeling::check_mesh(back, false);
+    EXPECT_EQ(check.boundary_edges, 0u) << name;
+    EXPECT_EQ(check.non_manifold_vertices, 0u) << name;
+  }
+  const modeling::TreeMesh obj_back = read_mesh(dir.path("t.obj"));
+  for (auto v : obj_back.vertices()) {
+    const auto p = obj_back.point(v), q = mesh.point(v);
+    EXPECT_LT((Eigen::Vector3d(p[0], p[1], p[2]) - Eigen::Vector3d(q[0], q[1], q[2]) - offset).norm(), 1e-6);
+  }
+
   const MeshPlacement ply = write_mesh(dir.path("t.ply"), mesh, frame);
   EXPECT_FALSE(ply.note.empty());
   EXPECT_EQ(ply.left_out, offset);

@@ -58,9 +58,10 @@ MeshPlacement write_mesh(const std::filesystem::path& path, const modeling::Tree
 MeshPlacement write_mesh(const std::filesystem::path& path, const modeling::TreeMesh& mesh,
                          const Eigen::Vector3d& offset, const Skeleton* skeleton = nullptr);
 
-/// Reads the triangles of a mesh file through assimp, identical vertices joined (STL stores none
-/// shared), node transforms applied as a viewer applies them (a glTF file comes back Y-up, in
-/// 32-bit precision). Lines and points are skipped.
+/// Reads the triangles of a mesh file, identical vertices joined (STL stores none shared): OBJ by
+/// our own reader in double precision, the others through assimp with the node transforms applied
+/// in double precision as a viewer applies them (a glTF file comes back Y-up, its vertices as the
+/// file's 32-bit floats, its root node's translation as assimp reads it). Lines and points are skipped.
 /// @throws InputError naming the file when assimp cannot read it.
 modeling::TreeMesh read_mesh(const std::filesystem::path& path);
 
