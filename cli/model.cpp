@@ -40,6 +40,7 @@ struct Settings : ModelSettings {
   std::string report;
   std::string qsm;
   std::string skeleton_out;
+  std::string leaves;
   bool json = false;
   bool quiet = false;
   SkeletonSettings method;
@@ -57,6 +58,7 @@ int run(Settings& s) {
   if (!s.qsm.empty() && io::extension_of(s.qsm) != "csv") throw OptionError("--qsm must name a .csv file");
   if (!s.skeleton_out.empty()) require_skeleton_extension(s.skeleton_out);
   check_skeleton_settings(s.method);
+  check_leaves_option(s.method, s.leaves);
   modeling::check_sweep_options(s.sweep);
   // Every output is checked before any work and committed together at the end: whole or absent.
   io::OutputSet outputs({fs::path(s.input)});
@@ -64,6 +66,7 @@ int run(Settings& s) {
   const fs::path report_to = s.report.empty() ? fs::path() : outputs.stage(s.report, "--report");
   const fs::path qsm_to = s.qsm.empty() ? fs::path() : outputs.stage(s.qsm, "--qsm");
   const fs::path skeleton_to = s.skeleton_out.empty() ? fs::path() : outputs.stage(s.skeleton_out, "--skeleton");
+  const fs::path leaves_to = s.leaves.empty() ? fs::path() : outputs.stage(s.leaves, "--leaves");
   const ViewOutputs view_outputs(s.view, outputs);
 
   Progress progress(s.quiet || s.json);
@@ -71,7 +74,10 @@ int run(Settings& s) {
   std::optional<PointCloud> cloud;
   Skeleton skeleton;
   SkeletonStats skeleton_stats;
+  WoodSplit wood;
   const bool from_skeleton = io::looks_like_skeleton(s.input);
+  if (from_skeleton && s.method.wood_only)
+    throw OptionError("--wood-only sets leaves aside from a point cloud; " + s.input + " is a skeleton");
   Eigen::Vector3d up = parse_up(s.method.up);
   if (from_skeleton) {
     skeleton = io::read_skeleton(s.input);
@@ -90,6 +96,7 @@ int run(Settings& s) {
                 << " nodes have no radius; the pipe model fills them in from the others\n";
   } else {
     cloud = io::read_point_cloud(s.input);
+    wood = keep_wood(s.method, *cloud, s.input, s.quiet || s.json);
     SkeletonOptions o = skeleton_options_for(s.method, *cloud);
     if (progress.active()) o.progress = [&](const std::string& stage, double done) { progress(stage, 0.05 + 0.6 * done); };
     skeleton = extract_skeleton_of(s.input, *cloud, o, &skeleton_stats);
@@ -154,6 +161,7 @@ int run(Settings& s) {
   try {
     if (!s.qsm.empty()) io::write_qsm_csv(qsm_to, measurements);
     if (!s.skeleton_out.empty()) io::write_skeleton(skeleton_to, skeleton);
+    if (!s.leaves.empty()) io::write_point_cloud(leaves_to, wood.leaves);
   } catch (const Error& e) {
     throw Error(outputs.explain(e.what()));
   }
@@ -163,6 +171,7 @@ int run(Settings& s) {
   j["input"] = s.input;
   j["output"] = s.output;
   if (cloud) j["points"] = cloud->size();
+  if (wood.run) j["wood_only"] = {{"wood_points", wood.wood_points}, {"leaf_points", wood.leaf_points}};
   j["nodes"] = skeleton.node_count();
   j["branch_points"] = count_branch_points(skeleton.graph);
   j["endpoints"] = count_endpoints(skeleton.graph);
@@ -278,6 +287,7 @@ Command add_model(CLI::App& app) {
   c->add_option("--qsm", s->qsm, "Also write the cylinder table (QSM columns) as CSV to this file");
   c->add_option("--skeleton", s->skeleton_out, "Also write the skeleton with its fitted radii (.ply, .obj or .json)");
   add_view_options(c, s->view);
+  add_leaves_option(*c, s->leaves);
   c->add_flag("--json", s->json, "Print the JSON report on stdout instead of the summary");
   c->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
   add_model_options(*c, *s);

@@ -175,7 +175,7 @@ int run(Settings& s) {
     if (before != io::read_whole_file(file)) changed.insert(names[t]);
     if (trees[t].size() >= s.min_tree_points) modelled.push_back(file.string());
   }
-  static const std::regex made_by_plot(R"((tree_[0-9]+)(_report\.json|_skeleton\.[a-z]+|\.[a-z]+))");
+  static const std::regex made_by_plot(R"((tree_[0-9]+)(_report\.json|_skeleton\.[a-z]+|_leaves\.ply|\.[a-z]+))");
   for (const auto& entry : fs::directory_iterator(out_dir / "trees", ec)) {
     std::smatch m;
     const std::string file = entry.path().filename().string();
@@ -300,7 +300,7 @@ Command add_plot(CLI::App& app) {
       "and models each tree by the batch runner (a process per tree). The cloud must be z-up and in metres.\n"
       "Writes OUTDIR/labelled.ply or .las (every point with tree_id, 0 for none; class: 0 no tree, 1 ground, 2 tree; "
       "height above the ground), OUTDIR/trees/tree_NNN.ply (each tree's points) with tree_NNN.glb and "
-      "tree_NNN_report.json beside, OUTDIR/trees.csv and trees.json (id, stem position in the input's frame, "
+      "tree_NNN_report.json beside (and tree_NNN_leaves.ply with --wood-only), OUTDIR/trees.csv and trees.json (id, stem position in the input's frame, "
       "ground elevation, points, height, crown base, stem DBH from the slice, model DBH, volume, coverage, "
       "status) and OUTDIR/plan.png (the plot from above, a colour and the id per tree). Exit code 0 when every "
       "tree with --min-tree-points or more points modelled, 1 when any failed or no stem was found.");

@@ -17,6 +17,14 @@ struct SkeletonSettings {
   std::string neighbours = "octree";
   SkeletonOptions options;
   bool no_prune = false, no_cpc = false, no_refine = false, no_junctions = false, no_smooth = false;
+  bool wood_only = false;
+};
+
+/// What --wood-only kept and set aside.
+struct WoodSplit {
+  bool run = false;
+  std::size_t wood_points = 0, leaf_points = 0;
+  PointCloud leaves;
 };
 
 /// Adds the method's options to `command`, in the group "Method".
@@ -33,6 +41,17 @@ Eigen::Vector3d parse_up(const std::string& text);
 
 /// @throws OptionError unless `path` has an extension skeletons are written in (.ply .obj .json).
 void require_skeleton_extension(const std::string& path);
+
+/// With --wood-only: keeps the points of `cloud` that look like wood (forest::separate_wood) and
+/// returns the rest as the leaves, saying how many on stderr unless `quiet`.
+/// @throws InputError when it leaves too few points to extract a skeleton from.
+WoodSplit keep_wood(const SkeletonSettings& settings, PointCloud& cloud, const std::string& input, bool quiet);
+
+/// Adds --leaves FILE (the points --wood-only set aside) to `command`.
+void add_leaves_option(CLI::App& command, std::string& file);
+
+/// Checks --leaves against --wood-only before any work. @throws OptionError.
+void check_leaves_option(const SkeletonSettings& settings, const std::string& file);
 
 /// Extracts the skeleton, naming the input file in the error of a cloud the method refuses.
 Skeleton extract_skeleton_of(const std::string& input, const PointCloud& cloud, const SkeletonOptions& options,

@@ -28,6 +28,7 @@ struct Settings {
   std::string input;
   std::string output;
   std::string report;
+  std::string leaves;
   bool json = false;
   bool quiet = false;
   SkeletonSettings method;
@@ -41,15 +42,18 @@ int run(Settings& s) {
   require_skeleton_extension(s.output);
   if (!s.report.empty() && io::extension_of(s.report) != "json") throw OptionError("--report must name a .json file");
   check_skeleton_settings(s.method);
+  check_leaves_option(s.method, s.leaves);
   // Every output is checked before any work and committed together at the end: whole or absent.
   io::OutputSet outputs({fs::path(s.input)});
   const fs::path output_to = outputs.stage(s.output, "-o");
   const fs::path report_to = s.report.empty() ? fs::path() : outputs.stage(s.report, "--report");
+  const fs::path leaves_to = s.leaves.empty() ? fs::path() : outputs.stage(s.leaves, "--leaves");
   const ViewOutputs view_outputs(s.view, outputs);
 
   Progress progress(s.quiet || s.json);
   progress("reading " + fs::path(s.input).filename().string(), 0.0);
-  const PointCloud cloud = io::read_point_cloud(s.input);
+  PointCloud cloud = io::read_point_cloud(s.input);
+  const WoodSplit wood = keep_wood(s.method, cloud, s.input, s.quiet || s.json);
 
   SkeletonOptions o = skeleton_options_for(s.method, cloud);
   if (progress.active()) o.progress = [&](const std::string& stage, double done) { progress(stage, 0.05 + 0.9 * done); };
@@ -59,6 +63,7 @@ int run(Settings& s) {
   progress("writing " + fs::path(s.output).filename().string(), 0.97);
   try {
     io::write_skeleton(output_to, skeleton);
+    if (!s.leaves.empty()) io::write_point_cloud(leaves_to, wood.leaves);
   } catch (const Error& e) {
     throw Error(outputs.explain(e.what()));
   }
@@ -70,6 +75,7 @@ int run(Settings& s) {
   j["input"] = s.input;
   j["output"] = s.output;
   j["points"] = cloud.size();
+  if (wood.run) j["wood_only"] = {{"wood_points", wood.wood_points}, {"leaf_points", wood.leaf_points}};
   j["nodes"] = skeleton.node_count();
   j["edges"] = skeleton.edge_count();
   j["branch_points"] = branch_points;
@@ -142,6 +148,7 @@ Command add_skeletonize(CLI::App& app) {
   c->add_option("-o,--output", s->output, "Skeleton file to write (default: INPUT_skeleton.ply in this folder)");
   c->add_option("--report", s->report, "Also write the JSON report (what --json prints) to this file");
   add_view_options(c, s->view);
+  add_leaves_option(*c, s->leaves);
   c->add_flag("--json", s->json, "Print a machine-readable JSON report on stdout instead of the summary");
   c->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
 

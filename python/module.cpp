@@ -8,6 +8,7 @@
 #include "treeskel/error.h"
 #include "treeskel/forest/ground.h"
 #include "treeskel/forest/segment.h"
+#include "treeskel/forest/wood.h"
 #include "treeskel/forest/stems.h"
 #include "treeskel/io/atomic_file.h"
 #include "treeskel/io/output_set.h"
@@ -179,6 +180,12 @@ void save_whole(const std::filesystem::path& path, const std::string& what, Writ
 PySkeleton extract(const py::object& points, const Options& o) {
   PySkeleton out;
   out.cloud = cloud_from(points);
+  if (o.method.wood_only) {  // the skeleton, the radii and the measurements of the wood alone
+    auto wood = std::make_shared<Cloud>(*out.cloud);
+    py::gil_scoped_release free;
+    cli::keep_wood(o.method, wood->cloud, wood->source.empty() ? std::string("the points") : wood->source, true);
+    out.cloud = std::move(wood);
+  }
   const SkeletonOptions options = cli::skeleton_options_for(o.method, out.cloud->cloud);
   out.up = options.root.up;
   {
@@ -436,6 +443,25 @@ PYBIND11_MODULE(_treeskel, m) {
   m.attr("_built_executable") = TREESKEL_BUILT_EXE;
   m.attr("_built_package") = TREESKEL_BUILT_PACKAGE;
   m.attr("_installed_executable") = TREESKEL_INSTALLED_EXE;
+
+  m.def("separate_wood", [](const py::object& points) {
+    const std::shared_ptr<const Cloud> c = cloud_from(points);
+    forest::WoodLeaf w;
+    {
+      py::gil_scoped_release free;
+      w = forest::separate_wood(c->cloud);
+    }
+    py::array_t<bool> wood(static_cast<py::ssize_t>(w.is_wood.size()));
+    py::array_t<float> score(static_cast<py::ssize_t>(w.score.size()));
+    for (std::size_t p = 0; p < w.is_wood.size(); ++p) {
+      wood.mutable_at(p) = w.is_wood[p] != 0;
+      score.mutable_at(p) = w.score[p];
+    }
+    return py::make_tuple(wood, score);
+  }, py::arg("points"),
+        "wood, score = separate_wood(points): per point, whether it looks like wood (a bool array) and its "
+        "score (wood above -0.4, and the few points that join cut-off wood back), as `wood_only=True` and `--wood-only` keep it. `points`: an (N, 3) array, a "
+        "file name or a Cloud");
 
   m.def("segment_plot", [](const py::object& points, double voxel, double max_gap, std::pair<double, double> stem_slice,
                            double ground_cell, double ground_tolerance) {

@@ -163,6 +163,37 @@ def test_segment_plot_finds_both_trees_point_by_point(data):
         treeskel.segment_plot(points, stem_slice=(2.0, 1.0))
 
 
+def trunk_with_leaves():
+    """An upright trunk's bark (6,000 points) and a cluster of 1,500 leaf points touching its top."""
+    rng = np.random.default_rng(7)
+    a = rng.uniform(0, 2 * np.pi, 6000)
+    z = rng.uniform(0, 3, 6000)
+    bark = np.c_[0.15 * np.cos(a), 0.15 * np.sin(a), z] + rng.normal(0, 0.002, (6000, 3))
+    leaves = rng.normal(0, 0.1, (1500, 3)) + [0.4, 0.0, 2.5]
+    return np.vstack([bark, leaves]), 6000
+
+
+def test_separate_wood_tells_bark_from_leaves():
+    points, bark = trunk_with_leaves()
+    wood, score = treeskel.separate_wood(points)
+    assert wood.shape == (len(points),) and wood.dtype == bool and score.shape == (len(points),)
+    assert wood[:bark].mean() > 0.95 and (~wood[bark:]).mean() > 0.85
+    # Wood: every point scoring above -0.4, and the few joining cut-off wood back through the leaves.
+    assert wood[score > -0.4].all() and (wood & (score <= -0.4)).sum() < 50
+    # The same cloud lying on its side: the same labels (the score has no up axis).
+    assert (treeskel.separate_wood(points[:, [0, 2, 1]])[0] == wood).mean() > 0.99
+
+
+def test_wood_only_skeleton_is_the_skeleton_of_the_wood():
+    points, _ = trunk_with_leaves()
+    wood, _ = treeskel.separate_wood(points)
+    only = treeskel.extract_skeleton(points, wood_only=True)
+    np.testing.assert_allclose(only.positions, treeskel.extract_skeleton(points[wood]).positions, atol=1e-9)
+    # The leafy cloud's skeleton reaches out into the leaves; the wood's much less far.
+    whole = treeskel.extract_skeleton(points)
+    assert whole.positions[:, 0].max() > only.positions[:, 0].max() + 0.1
+
+
 def test_plot_runs_the_command(data, tmp_path):
     np.savetxt(tmp_path / "two.xyz", two_trees(data))
     result = treeskel.plot(tmp_path / "two.xyz", tmp_path / "out", segment_only=True, stem_slice=(0.3, 1.8))

@@ -12,6 +12,8 @@ work runs without the GIL, so threads convert trees in parallel.
 
     trees = treeskel.plot("plot.laz", "out/")             # a plot: one model per tree, as `treeskel plot`
     labels = treeskel.segment_plot(points)["tree"]         # the plot's trees, point by point
+    wood, score = treeskel.separate_wood(points)           # wood and leaves, point by point
+    skeleton = treeskel.extract_skeleton(points, wood_only=True)  # the skeleton of the wood alone
 
     skeleton = treeskel.extract_skeleton(points)          # an (N, 3) numpy array
     skeleton = treeskel.fit_radii(skeleton)                # radii by the pipe model
@@ -31,6 +33,7 @@ from ._treeskel import (  # noqa: F401
     read_cloud,
     read_skeleton,
     segment_plot,
+    separate_wood,
     tree_mesh,
 )
 
@@ -45,6 +48,7 @@ __all__ = [
     "read_cloud",
     "read_skeleton",
     "segment_plot",
+    "separate_wood",
     "tree_mesh",
     "plot",
 ]

@@ -468,6 +468,41 @@ TEST(Cli, SideOutputsAreCheckedBeforeAnyWork) {
   EXPECT_EQ(temporaries_in(dir.root()), 0);
 }
 
+// --wood-only on a real tree in leaf: the leaves set aside, written, counted in the report; the model
+// of the rest; the leaves refused without it; the batch runner writes each tree's leaves beside it.
+TEST(Cli, WoodOnlySetsTheLeavesOfALeafyTreeAside) {
+  const test::TempDir dir;
+  const std::string cloud = quoted(test::data_file("tree_arbor_leafy.xyz"));
+  const Result r = run("model " + cloud + " --wood-only --leaves leaves.ply -o m.ply --report r.json", dir.root());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("--wood-only: "), std::string::npos) << r.out;
+  std::ifstream in(dir.path("r.json"));
+  const auto report = nlohmann::json::parse(in);
+  const std::size_t wood = report.at("wood_only").at("wood_points"), leaves = report.at("wood_only").at("leaf_points");
+  EXPECT_EQ(wood + leaves, 36478u);
+  EXPECT_EQ(report.at("points").get<std::size_t>(), wood);
+  EXPECT_GT(leaves, 36478u / 6) << "a fifth to a third of this tree is leaves";
+  EXPECT_LT(leaves, 36478u / 3);
+  const PointCloud set_aside = io::read_point_cloud(dir.path("leaves.ply"));
+  EXPECT_EQ(set_aside.size(), leaves);
+  // In the input's frame, as every output: UTM metres.
+  EXPECT_GT(set_aside.positions.front().x() + set_aside.offset.x(), 269000.0);
+  EXPECT_TRUE(report.at("mesh").at("closed").get<bool>());
+
+  const Result refused = run("skeletonize " + cloud + " --leaves l.ply -o s.ply", dir.root());
+  EXPECT_EQ(refused.code, 2) << refused.out;
+  EXPECT_NE(refused.out.find("needs --wood-only"), std::string::npos) << refused.out;
+  EXPECT_FALSE(fs::exists(dir.path("s.ply")));
+
+  const Result skeleton = run("skeletonize " + cloud + " --wood-only --leaves l.ply -o s.ply --json", dir.root());
+  ASSERT_EQ(skeleton.code, 0) << skeleton.out;
+  EXPECT_EQ(io::read_point_cloud(dir.path("l.ply")).size(), leaves);
+
+  const Result batch = run("batch " + cloud + " -o out --wood-only --skeleton json", dir.root());
+  ASSERT_EQ(batch.code, 0) << batch.out;
+  EXPECT_EQ(io::read_point_cloud(dir.path("out/tree_arbor_leafy_leaves.ply")).size(), leaves);
+}
+
 TEST(Cli, AnOutputThatIsASymbolicLinkStaysOne) {
   const test::TempDir dir;
   fs::create_directory(dir.path("real"));

@@ -1,0 +1,46 @@
+/// @file wood.h
+/// Wood and leaves told apart point by point, from the shape and the density of each point's 40
+/// nearest: bark is a surface (its points scatter little off their plane) and a scan samples it at
+/// least as densely as the foliage around it; a cluster of leaves or needles scatters in every
+/// direction. The score is
+///   0.25 planarity - scattering - 0.25 ln(d40 / median d40)
+/// (eigenvalues l0 <= l1 <= l2 of the covariance of the 40 nearest: planarity (l1 - l0) / l2,
+/// scattering l0 / l2; d40 the distance to the 40th, the median over the cloud), averaged over the
+/// 20 nearest; a point is wood above the threshold. Unsupervised and scale-free: no training, no
+/// units, no up axis. Its limits are measured in docs/plots.md: thin twigs high in a crown look like
+/// leaves to it (on leafless trees it calls up to 8% of the points leaves), and it leaves about a
+/// tenth of the foliage in.
+#pragma once
+
+#include "treeskel/point_cloud.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace treeskel::forest {
+
+struct WoodOptions {
+  /// Wood above this score, chosen with the weights on arbor's labelled broadleaf tree, the synthetic
+  /// plots and leafless real trees (docs/plots.md: how, and what it gives on each).
+  double threshold = -0.4;
+  /// Parts of the wood of this many points or more that the leaves cut off from the largest part are
+  /// joined back to it (0: never): the points called leaves on the shortest way back become wood.
+  std::size_t join_parts = 40;
+};
+
+struct WoodLeaf {
+  std::vector<std::uint8_t> is_wood;  ///< per point: 1 for wood
+  std::vector<float> score;           ///< per point: the smoothed score (above the threshold: wood)
+  std::size_t wood_points = 0, leaf_points = 0;
+  std::size_t joined = 0;  ///< points called leaves that became wood to join the wood's parts
+  double leaf_share() const;
+};
+
+/// Classifies every point of `cloud` as wood or leaf. A cloud of 40 points or fewer is all wood
+/// (too few for the neighbourhoods). Deterministic, and the same for any number of threads.
+WoodLeaf separate_wood(const PointCloud& cloud, const WoodOptions& options = {});
+
+/// The points of `cloud` whose `keep` is `value`, with their normals, colours and classes; same offset.
+PointCloud select_points(const PointCloud& cloud, const std::vector<std::uint8_t>& keep, std::uint8_t value);
+
+}  // namespace treeskel::forest

@@ -1,0 +1,191 @@
+#include "treeskel/forest/wood.h"
+
+#include "treeskel/disjoint_sets.h"
+#include "treeskel/error.h"
+#include "treeskel/kd_search.h"
+
+#include <Eigen/Eigenvalues>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+
+namespace treeskel::forest {
+
+namespace {
+
+constexpr std::size_t kNear = 40;    // neighbours of the shape and the density
+constexpr std::size_t kSmooth = 20;  // ... the score is averaged over
+
+/// Planarity and scattering of the covariance of the sums of `count` points.
+void shape_of(const Eigen::Vector3d& sum, const Eigen::Matrix3d& outer, std::size_t count, double& planarity,
+              double& scattering) {
+  const double n = static_cast<double>(count);
+  const Eigen::Vector3d mean = sum / n;
+  const Eigen::Matrix3d cov = outer / n - mean * mean.transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(cov, Eigen::EigenvaluesOnly);
+  const Eigen::Vector3d l = eig.eigenvalues().cwiseMax(0.0);  // ascending
+  planarity = l(2) > 0 ? (l(1) - l(0)) / l(2) : 0.0;
+  scattering = l(2) > 0 ? l(0) / l(2) : 0.0;
+}
+
+/// The wood cut off from the largest part of it by points called leaves (a twig in a crown whose bark
+/// looks like foliage for a stretch) joined back: the points called leaves on the shortest way back
+/// from each part of `min_part` points or more, the way measured along the neighbour graph
+/// (`nearest`, each point's kSmooth nearest, both ways) by the length it runs through such points.
+/// Returns how many points it turned to wood.
+std::size_t join_wood(const PointCloud& cloud, const std::vector<std::uint32_t>& nearest, std::vector<std::uint8_t>& wood,
+                      std::size_t min_part) {
+  const std::size_t n = cloud.size();
+  // The neighbour graph, both ways, as compressed rows.
+  std::vector<std::uint32_t> start(n + 1, 0);
+  for (std::size_t p = 0; p < n; ++p)
+    for (std::size_t k = 1; k < kSmooth; ++k) {
+      ++start[p + 1];
+      ++start[nearest[p * kSmooth + k] + 1];
+    }
+  for (std::size_t p = 0; p < n; ++p) start[p + 1] += start[p];
+  std::vector<std::uint32_t> next(start.begin(), start.end() - 1), adjacent(start[n]);
+  for (std::size_t p = 0; p < n; ++p)
+    for (std::size_t k = 1; k < kSmooth; ++k) {
+      const std::uint32_t q = nearest[p * kSmooth + k];
+      adjacent[next[p]++] = q;
+      adjacent[next[q]++] = static_cast<std::uint32_t>(p);
+    }
+  // The parts of the wood; the largest (the lowest representative of equals) is the stem's.
+  DisjointSets<std::uint32_t> parts(n);
+  for (std::size_t p = 0; p < n; ++p)
+    if (wood[p])
+      for (std::uint32_t e = start[p]; e < start[p + 1]; ++e)
+        if (wood[adjacent[e]]) parts.unite(static_cast<std::uint32_t>(p), adjacent[e]);
+  std::vector<std::uint32_t> size(n, 0);
+  for (std::size_t p = 0; p < n; ++p) size[parts.find(static_cast<std::uint32_t>(p))] += wood[p];
+  const auto main = static_cast<std::uint32_t>(std::max_element(size.begin(), size.end()) - size.begin());
+  if (size[main] == 0) return 0;
+  // Shortest ways from the largest part: steps onto wood cost nothing, onto leaves their length.
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  std::vector<double> cost(n, std::numeric_limits<double>::infinity());
+  std::vector<std::uint32_t> from(n, kNone);
+  using Item = std::pair<double, std::uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  for (std::size_t p = 0; p < n; ++p)
+    if (wood[p] && parts.find(static_cast<std::uint32_t>(p)) == main) {
+      cost[p] = 0;
+      queue.emplace(0.0, static_cast<std::uint32_t>(p));
+    }
+  while (!queue.empty()) {
+    const auto [c, p] = queue.top();
+    queue.pop();
+    if (c > cost[p]) continue;
+    for (std::uint32_t e = start[p]; e < start[p + 1]; ++e) {
+      const std::uint32_t q = adjacent[e];
+      const double d = c + (wood[q] ? 0.0 : (cloud.positions[q] - cloud.positions[p]).norm());
+      if (d < cost[q]) {
+        cost[q] = d;
+        from[q] = p;
+        queue.emplace(d, q);
+      }
+    }
+  }
+  // From each other part of min_part points or more: its cheapest point's way back, to wood.
+  std::vector<std::uint32_t> entry(n, kNone);
+  for (std::size_t p = 0; p < n; ++p) {
+    if (!wood[p]) continue;
+    const std::uint32_t r = parts.find(static_cast<std::uint32_t>(p));
+    if (r == main || size[r] < min_part || !std::isfinite(cost[p])) continue;
+    if (entry[r] == kNone || cost[p] < cost[entry[r]]) entry[r] = static_cast<std::uint32_t>(p);
+  }
+  std::size_t joined = 0;
+  for (std::size_t r = 0; r < n; ++r)
+    for (std::uint32_t p = entry[r]; p != kNone && cost[p] > 0; p = from[p])
+      if (!wood[p]) {
+        wood[p] = 1;
+        ++joined;
+      }
+  return joined;
+}
+
+}  // namespace
+
+double WoodLeaf::leaf_share() const {
+  const std::size_t n = wood_points + leaf_points;
+  return n ? static_cast<double>(leaf_points) / static_cast<double>(n) : 0.0;
+}
+
+WoodLeaf separate_wood(const PointCloud& cloud, const WoodOptions& options) {
+  const std::size_t n = cloud.size();
+  WoodLeaf out;
+  out.is_wood.assign(n, 1);
+  out.score.assign(n, 0.0f);
+  out.wood_points = n;
+  if (n <= kNear) return out;
+
+  std::vector<kd::Point> points(n);
+  for (std::size_t p = 0; p < n; ++p) points[p] = kd::Point(cloud.positions[p].x(), cloud.positions[p].y(), cloud.positions[p].z());
+  std::vector<std::uint32_t> ids(n);
+  for (std::size_t p = 0; p < n; ++p) ids[p] = static_cast<std::uint32_t>(p);
+  kd::Tree tree(ids.begin(), ids.end(), kd::Tree::Splitter(), kd::Traits(kd::PointMap(points.data())));
+  tree.build();
+
+  // Per point: the shape terms of the score, the distance to its 40th neighbour, its 20 nearest.
+  std::vector<double> partial(n), reach(n);
+  std::vector<std::uint32_t> nearest(n * kSmooth);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t p = range.begin(); p != range.end(); ++p) {
+      kd::KnnSearch search(tree, points[p], kNear, 0, true, kd::KnnSearch::Distance(kd::PointMap(points.data())));
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+      std::size_t k = 0;
+      for (auto it = search.begin(); it != search.end(); ++it, ++k) {
+        // Relative to the point itself, so that the sums stay small.
+        const Eigen::Vector3d q = cloud.positions[it->first] - cloud.positions[p];
+        sum += q;
+        outer += q * q.transpose();
+        if (k < kSmooth) nearest[p * kSmooth + k] = it->first;
+        reach[p] = std::sqrt(it->second);
+      }
+      double planarity = 0, scattering = 0;
+      shape_of(sum, outer, k, planarity, scattering);
+      partial[p] = 0.25 * planarity - scattering;
+    }
+  });
+  // Density relative to the cloud's own: the median distance to the 40th neighbour.
+  std::vector<double> sorted = reach;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(n / 2), sorted.end());
+  double median = sorted[n / 2];
+  if (!(median > 0)) median = std::max(*std::max_element(reach.begin(), reach.end()), 1e-300);
+  const double floor = median * 1e-3;  // duplicate points: a distance of 0 is not infinitely dense
+  std::vector<double> raw(n);
+  for (std::size_t p = 0; p < n; ++p) raw[p] = partial[p] - 0.25 * std::log(std::max(reach[p], floor) / median);
+  for (std::size_t p = 0; p < n; ++p) {
+    double s = 0;
+    for (std::size_t k = 0; k < kSmooth; ++k) s += raw[nearest[p * kSmooth + k]];
+    s /= static_cast<double>(kSmooth);
+    out.score[p] = static_cast<float>(s);
+    out.is_wood[p] = s > options.threshold;
+  }
+  if (options.join_parts > 0 && std::count(out.is_wood.begin(), out.is_wood.end(), 1) > 0) out.joined = join_wood(cloud, nearest, out.is_wood, options.join_parts);
+  out.wood_points = static_cast<std::size_t>(std::count(out.is_wood.begin(), out.is_wood.end(), 1));
+  out.leaf_points = n - out.wood_points;
+  return out;
+}
+
+PointCloud select_points(const PointCloud& cloud, const std::vector<std::uint8_t>& keep, std::uint8_t value) {
+  TREESKEL_REQUIRE(keep.size() == cloud.size(), "a flag per point");
+  PointCloud out;
+  out.offset = cloud.offset;
+  for (std::size_t p = 0; p < cloud.size(); ++p) {
+    if (keep[p] != value) continue;
+    out.positions.push_back(cloud.positions[p]);
+    if (cloud.has_normals()) out.normals.push_back(cloud.normals[p]);
+    if (cloud.has_colors()) out.colors.push_back(cloud.colors[p]);
+    if (!cloud.classes.empty()) out.classes.push_back(cloud.classes[p]);
+  }
+  return out;
+}
+
+}  // namespace treeskel::forest
