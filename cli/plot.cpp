@@ -149,11 +149,7 @@ int run(Settings& s) {
   for (auto& t : trees) t.offset = cloud.offset;
   for (std::size_t p = 0; p < cloud.size(); ++p) {
     if (!seg.tree[p]) continue;
-    PointCloud& t = trees[seg.tree[p] - 1];
-    t.positions.push_back(cloud.positions[p]);
-    if (cloud.has_normals()) t.normals.push_back(cloud.normals[p]);
-    if (cloud.has_colors()) t.colors.push_back(cloud.colors[p]);
-    if (!cloud.classes.empty()) t.classes.push_back(cloud.classes[p]);
+    append_point(trees[seg.tree[p] - 1], cloud, p);
   }
   std::vector<std::string> names(stems.size());
   for (std::size_t t = 0; t < stems.size(); ++t) names[t] = tree_name(t + 1, stems.size());

@@ -180,10 +180,7 @@ PointCloud select_points(const PointCloud& cloud, const std::vector<std::uint8_t
   out.offset = cloud.offset;
   for (std::size_t p = 0; p < cloud.size(); ++p) {
     if (keep[p] != value) continue;
-    out.positions.push_back(cloud.positions[p]);
-    if (cloud.has_normals()) out.normals.push_back(cloud.normals[p]);
-    if (cloud.has_colors()) out.colors.push_back(cloud.colors[p]);
-    if (!cloud.classes.empty()) out.classes.push_back(cloud.classes[p]);
+    append_point(out, cloud, p);
   }
   return out;
 }

@@ -101,10 +101,7 @@ Skeleton extract_skeleton(const PointCloud& cloud, const SkeletonOptions& option
   for (std::size_t i = 0; i < n; ++i) {
     if (first[i] != i) continue;
     id[i] = static_cast<std::uint32_t>(distinct.positions.size());
-    distinct.positions.push_back(cloud.positions[i]);
-    if (cloud.has_normals()) distinct.normals.push_back(cloud.normals[i]);
-    if (cloud.has_colors()) distinct.colors.push_back(cloud.colors[i]);
-    if (!cloud.classes.empty()) distinct.classes.push_back(cloud.classes[i]);
+    append_point(distinct, cloud, i);
   }
   if (distinct.size() < options.min_points)
     throw InputError("the cloud has " + std::to_string(distinct.size()) + " distinct points; the method needs at least " +

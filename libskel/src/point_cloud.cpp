@@ -10,6 +10,13 @@ Eigen::AlignedBox3d bounding_box(const PointCloud& cloud) {
   return box;
 }
 
+void append_point(PointCloud& to, const PointCloud& from, std::size_t p) {
+  to.positions.push_back(from.positions[p]);
+  if (from.has_normals()) to.normals.push_back(from.normals[p]);
+  if (from.has_colors()) to.colors.push_back(from.colors[p]);
+  if (!from.classes.empty()) to.classes.push_back(from.classes[p]);
+}
+
 void recentre_offset(PointCloud& cloud) {
   if (cloud.empty()) return;
   const Eigen::Vector3d shift = bounding_box(cloud).min();

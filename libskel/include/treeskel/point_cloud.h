@@ -31,6 +31,10 @@ struct PointCloud {
   bool has_colors() const { return !colors.empty(); }
 };
 
+/// Appends point `p` of `from` to `to`: its position, and its normal, colour and class where `from` has
+/// them (`to` takes the points of one cloud only, and its offset).
+void append_point(PointCloud& to, const PointCloud& from, std::size_t p);
+
 /// Axis-aligned bounding box of the local positions (empty box for an empty cloud).
 Eigen::AlignedBox3d bounding_box(const PointCloud& cloud);
 
