@@ -39,7 +39,7 @@ struct Tally {
 };
 
 /// A text cloud with a `foliage` column in its `#` header: positions and wood flags; false if it has none.
-bool read_labelled(const std::string& file, PointCloud& cloud, std::vector<bool>& wood) {
+bool read_labelled(const std::string& file, PointCloud& cloud, std::vector<std::uint8_t>& wood) {
   std::ifstream in(file);
   std::string line;
   if (!std::getline(in, line) || line.find("foliage") == std::string::npos) return false;
@@ -64,8 +64,7 @@ int main(int argc, char** argv) {
   struct Labelled {
     std::string file;
     PointCloud cloud;
-    std::vector<bool> truth;
-    std::vector<std::uint8_t> kept;
+    std::vector<std::uint8_t> truth, kept;
   };
   std::vector<Labelled> skeletons;
   for (int i = 1; i < argc; ++i) {
@@ -98,7 +97,7 @@ int main(int argc, char** argv) {
     double seconds = 0;
     for (std::size_t t = 1; t <= plot.stems.size(); ++t) {
       PointCloud tree;
-      std::vector<bool> wood;
+      std::vector<std::uint8_t> wood;
       for (std::size_t p = 0; p < plot.cloud.size(); ++p)
         if (plot.tree[p] == t) {
           tree.positions.push_back(plot.cloud.positions[p]);
@@ -118,7 +117,7 @@ int main(int argc, char** argv) {
   if (seeds > 0) std::printf("| synthetic plots, mean balanced accuracy | | | | | | | %.3f | |\n", balanced_sum / seeds);
   for (const auto& file : clouds) {
     PointCloud cloud;
-    std::vector<bool> wood;
+    std::vector<std::uint8_t> wood;
     const bool labelled = read_labelled(file, cloud, wood);
     if (!labelled) cloud = io::read_point_cloud(file);
     const auto start = std::chrono::steady_clock::now();
@@ -133,14 +132,12 @@ int main(int argc, char** argv) {
   if (skeletons.empty()) return 0;
   std::printf("\n| cloud | skeleton of | nodes | SPD to the labelled wood's | SPD from it | (over the longest side) |\n|---|---|---:|---:|---:|---|\n");
   for (const auto& l : skeletons) {
-    std::vector<std::uint8_t> truth(l.truth.begin(), l.truth.end()), all(l.cloud.size(), 1);
     const double side = bounding_box(l.cloud).sizes().maxCoeff();
-    const Skeleton reference = extract_skeleton(forest::select_points(l.cloud, truth, 1));
+    const Skeleton reference = extract_skeleton(forest::select_points(l.cloud, l.truth, 1));
     const std::string name = l.file.rfind("synthetic", 0) == 0 ? l.file : std::filesystem::path(l.file).filename().string();
     std::printf("| %s | the labelled wood | %zu | | | |\n", name.c_str(), reference.node_count());
-    for (const auto& [what, keep] : {std::pair<const char*, const std::vector<std::uint8_t>*>{"the wood kept (--wood-only)", &l.kept},
-                                     {"the whole cloud", &all}}) {
-      const Skeleton s = extract_skeleton(forest::select_points(l.cloud, *keep, 1));
+    for (const auto& [what, s] : {std::pair<const char*, Skeleton>{"the wood kept (--wood-only)", extract_skeleton(forest::select_points(l.cloud, l.kept, 1))},
+                                  {"the whole cloud", extract_skeleton(l.cloud)}}) {
       std::printf("| %s | %s | %zu | %.4f | %.4f | |\n", name.c_str(), what, s.node_count(),
                   eval::skeleton_point_deviation(s, reference) / side, eval::skeleton_point_deviation(reference, s) / side);
     }
