@@ -139,8 +139,9 @@ int run(Settings& s) {
   mo.breast_height = s.breast_height;
   mo.dbh_from_points = !s.dbh_from_model;
   const modeling::TreeMeasurements measurements = modeling::measure_tree(skeleton, cloud ? &*cloud : nullptr, mo);
-  const std::vector<std::string> warnings =
+  std::vector<std::string> warnings =
       model_warnings({skeleton, up, measurements, s.breast_height, check, sweep_stats, coverage, s.sweep.unite_apart});
+  if (!wood.leafy_warning.empty()) warnings.insert(warnings.begin(), wood.leafy_warning);
   if (!s.json)
     for (const auto& w : warnings) std::cerr << "warning: " << s.input << ": " << w << '\n';
 

@@ -1,5 +1,7 @@
 #include "model_warnings.h"
 
+#include "treeskel/forest/wood.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -118,6 +120,17 @@ std::vector<std::string> model_warnings(const ModelOutcome& o) {
          "): frustums of branches that overlap count twice, and ", o.sweep.joins_thinned, " join(s) and ",
          o.sweep.repaired_shrunk, " branch(es) with what they carry were thinned to keep the mesh from crossing itself");
   return warnings;
+}
+
+std::string leafy_warning(const PointCloud& cloud) {
+  const double share = forest::estimate_leaf_share(cloud);
+  if (share < forest::kLeafyShare) return {};
+  std::ostringstream w;
+  w << "the cloud looks leafy: about " << std::lround(100.0 * share)
+    << "% of its points look like leaves or needles, which the skeleton follows as if they were twigs; "
+       "--wood-only (wood_only=True in Python) sets them aside, though it may also lose a crown's thinnest top "
+       "(docs/plots.md)";
+  return w.str();
 }
 
 }  // namespace treeskel::cli

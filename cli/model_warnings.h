@@ -7,6 +7,7 @@
 #include "treeskel/modeling/measurements.h"
 #include "treeskel/modeling/sweep.h"
 #include "treeskel/modeling/tree_mesh.h"
+#include "treeskel/point_cloud.h"
 #include "treeskel/skeleton.h"
 
 #include <Eigen/Core>
@@ -38,5 +39,9 @@ struct ModelOutcome {
 /// tenth of the cloud or more left out in parts too far to join (several trees?).
 /// Every front end (the command's stderr and report, MeshLab's log) says the same.
 std::vector<std::string> model_warnings(const ModelOutcome& outcome);
+
+/// Before any skeleton of a cloud not cleared of its leaves: when forest::estimate_leaf_share calls
+/// it leafy, the warning (without the input's name); empty otherwise.
+std::string leafy_warning(const PointCloud& cloud);
 
 }  // namespace treeskel::cli

@@ -1,4 +1,5 @@
 #include "skeleton_options.h"
+#include "model_warnings.h"
 #include "report.h"
 
 #include "treeskel/error.h"
@@ -116,7 +117,10 @@ void require_skeleton_extension(const std::string& path) {
 
 WoodSplit keep_wood(const SkeletonSettings& s, PointCloud& cloud, const std::string& input, bool quiet) {
   WoodSplit split;
-  if (!s.wood_only) return split;
+  if (!s.wood_only) {
+    split.leafy_warning = leafy_warning(cloud);
+    return split;
+  }
   const forest::WoodLeaf w = forest::separate_wood(cloud);
   split.run = true;
   split.wood_points = w.wood_points;

@@ -20,11 +20,12 @@ struct SkeletonSettings {
   bool wood_only = false;
 };
 
-/// What --wood-only kept and set aside.
+/// What --wood-only kept and set aside; without it, whether the cloud looked leafy.
 struct WoodSplit {
   bool run = false;
   std::size_t wood_points = 0, leaf_points = 0;
   PointCloud leaves;
+  std::string leafy_warning;  ///< without --wood-only: the warning for a leafy cloud, or empty
 };
 
 /// Adds the method's options to `command`, in the group "Method".
@@ -43,7 +44,9 @@ Eigen::Vector3d parse_up(const std::string& text);
 void require_skeleton_extension(const std::string& path);
 
 /// With --wood-only: keeps the points of `cloud` that look like wood (forest::separate_wood) and
-/// returns the rest as the leaves, saying how many on stderr unless `quiet`.
+/// returns the rest as the leaves, saying how many on stderr unless `quiet`. Without it: estimates
+/// the share of the points that look like leaves and, from forest::kLeafyShare, returns a warning
+/// (without the input's name) for the caller to print and report.
 /// @throws InputError when it leaves too few points to extract a skeleton from.
 WoodSplit keep_wood(const SkeletonSettings& settings, PointCloud& cloud, const std::string& input, bool quiet);
 

@@ -83,6 +83,8 @@ int run(Settings& s) {
   j["length"] = total_length(skeleton.graph);
   j["seconds"] = seconds;
   j["peak_memory_mb"] = peak_memory_mb();
+  j["warnings"] = nlohmann::ordered_json::array();
+  if (!wood.leafy_warning.empty()) j["warnings"].push_back(wood.leafy_warning);
   j["left_out"] = {{"total", skeleton.left_out.total()},
                    {"small_clusters", skeleton.left_out.small_clusters},
                    {"far_parts", skeleton.left_out.far_parts},
@@ -113,6 +115,7 @@ int run(Settings& s) {
   write_report_and_commit(outputs, report_to, j);
   progress.clear();
 
+  if (!s.json && !wood.leafy_warning.empty()) std::cerr << "warning: " << s.input << ": " << wood.leafy_warning << '\n';
   if (s.json) {
     std::cout << j.dump(2) << '\n';
   } else if (!s.quiet) {

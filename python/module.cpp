@@ -2,6 +2,7 @@
 // stages with the command line's options, given as keyword arguments (cell_points=3 for
 // --cell-points 3, no_cpc=True for --no-cpc).
 #include "batch_plan.h"
+#include "model_warnings.h"
 #include "model_options.h"
 #include "skeleton_options.h"
 
@@ -185,6 +186,16 @@ PySkeleton extract(const py::object& points, const Options& o) {
     py::gil_scoped_release free;
     cli::keep_wood(o.method, wood->cloud, wood->source.empty() ? std::string("the points") : wood->source, true);
     out.cloud = std::move(wood);
+  } else {
+    std::string leafy;
+    {
+      py::gil_scoped_release free;
+      leafy = cli::leafy_warning(out.cloud->cloud);
+    }
+    if (!leafy.empty()) {
+      const std::string text = (out.cloud->source.empty() ? std::string("the points") : out.cloud->source) + ": " + leafy;
+      if (PyErr_WarnEx(PyExc_UserWarning, text.c_str(), 1) < 0) throw py::error_already_set();
+    }
   }
   const SkeletonOptions options = cli::skeleton_options_for(o.method, out.cloud->cloud);
   out.up = options.root.up;

@@ -174,6 +174,69 @@ WoodLeaf separate_wood(const PointCloud& cloud, const WoodOptions& options) {
   return out;
 }
 
+double estimate_leaf_share(const PointCloud& cloud, const LeafShareSample& sample) {
+  const std::size_t n = cloud.size(), sites = std::max<std::size_t>(sample.sites, 1);
+  const std::size_t crop = std::max(sample.crop, kNear + 1), inner = std::min(std::max<std::size_t>(sample.inner, 1), crop);
+  if (n <= std::max(sample.whole_up_to, sites * crop)) return separate_wood(cloud).leaf_share();
+  // The sites: points evenly through the cloud's order. Every point goes to its nearest site.
+  // In floats, coordinates apart, so that the loop over the sites vectorises: a crop wants only
+  // about the nearest points.
+  std::vector<float> sx(sites), sy(sites), sz(sites);
+  for (std::size_t s = 0; s < sites; ++s) {
+    const Eigen::Vector3d& q = cloud.positions[(2 * s + 1) * n / (2 * sites)];
+    sx[s] = static_cast<float>(q.x());
+    sy[s] = static_cast<float>(q.y());
+    sz[s] = static_cast<float>(q.z());
+  }
+  std::vector<std::uint32_t> owner(n);
+  std::vector<float> distance(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<float> d(sites);
+    for (std::size_t p = range.begin(); p != range.end(); ++p) {
+      const auto x = static_cast<float>(cloud.positions[p].x()), y = static_cast<float>(cloud.positions[p].y()),
+                 z = static_cast<float>(cloud.positions[p].z());
+      for (std::size_t s = 0; s < sites; ++s) d[s] = (x - sx[s]) * (x - sx[s]) + (y - sy[s]) * (y - sy[s]) + (z - sz[s]) * (z - sz[s]);
+      const auto at = std::min_element(d.begin(), d.end());
+      owner[p] = static_cast<std::uint32_t>(at - d.begin());
+      distance[p] = *at;
+    }
+  });
+  // Each site's points in the cloud's order, then its `crop` nearest, of which the `inner` nearest count.
+  std::vector<std::size_t> start(sites + 1, 0);
+  for (std::size_t p = 0; p < n; ++p) ++start[owner[p] + 1];
+  for (std::size_t s = 0; s < sites; ++s) start[s + 1] += start[s];
+  std::vector<std::uint32_t> order(n);
+  {
+    std::vector<std::size_t> next(start.begin(), start.end() - 1);
+    for (std::size_t p = 0; p < n; ++p) order[next[owner[p]]++] = static_cast<std::uint32_t>(p);
+  }
+  PointCloud crops;
+  std::vector<std::uint8_t> counted;
+  const auto nearer = [&](std::uint32_t a, std::uint32_t b) { return distance[a] < distance[b] || (distance[a] == distance[b] && a < b); };
+  for (std::size_t s = 0; s < sites; ++s) {
+    const auto first = order.begin() + static_cast<std::ptrdiff_t>(start[s]), last = order.begin() + static_cast<std::ptrdiff_t>(start[s + 1]);
+    // nth_element(first, nth, last) leaves the nearest before nth.
+    const auto end = static_cast<std::size_t>(last - first) > crop ? first + static_cast<std::ptrdiff_t>(crop) : last;
+    if (end != last) std::nth_element(first, end, last, nearer);
+    const auto middle = static_cast<std::size_t>(end - first) > inner ? first + static_cast<std::ptrdiff_t>(inner) : end;
+    if (middle != end) std::nth_element(first, middle, end, nearer);
+    for (auto it = first; it != end; ++it) {
+      crops.positions.push_back(cloud.positions[*it]);
+      counted.push_back(it < middle);
+    }
+  }
+  WoodOptions options;
+  options.join_parts = 0;  // crops apart: nothing to join
+  const WoodLeaf w = separate_wood(crops, options);
+  std::size_t leaves = 0, total = 0;
+  for (std::size_t p = 0; p < crops.size(); ++p)
+    if (counted[p]) {
+      ++total;
+      leaves += !w.is_wood[p];
+    }
+  return total ? static_cast<double>(leaves) / static_cast<double>(total) : 0.0;
+}
+
 PointCloud select_points(const PointCloud& cloud, const std::vector<std::uint8_t>& keep, std::uint8_t value) {
   TREESKEL_REQUIRE(keep.size() == cloud.size(), "a flag per point");
   PointCloud out;

@@ -228,6 +228,7 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
       summary << "; " << stats.thin_left_out + stats.pieces_failed << " branches left out";
     layer.summary = summary.str();
     layer.warnings = cli::model_warnings({skeleton, mo.up, m, mp.breast_height, check, stats, coverage, so.unite_apart});
+    if (std::string leafy = cli::leafy_warning(cloud); !leafy.empty()) layer.warnings.insert(layer.warnings.begin(), std::move(leafy));
     report(progress, "done", 1.0, 0, 100);
     out = std::move(layer);
   });

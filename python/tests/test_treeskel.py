@@ -4,6 +4,7 @@ import json
 import subprocess
 import threading
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -189,8 +190,13 @@ def test_wood_only_skeleton_is_the_skeleton_of_the_wood():
     wood, _ = treeskel.separate_wood(points)
     only = treeskel.extract_skeleton(points, wood_only=True)
     np.testing.assert_allclose(only.positions, treeskel.extract_skeleton(points[wood]).positions, atol=1e-9)
-    # The leafy cloud's skeleton reaches out into the leaves; the wood's much less far.
-    whole = treeskel.extract_skeleton(points)
+    # The leafy cloud's skeleton reaches out into the leaves; the wood's much less far. Only the
+    # leafy cloud's is warned about.
+    with pytest.warns(UserWarning, match="looks leafy"):
+        whole = treeskel.extract_skeleton(points)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        treeskel.extract_skeleton(points[wood])
     assert whole.positions[:, 0].max() > only.positions[:, 0].max() + 0.1
 
 

@@ -503,6 +503,28 @@ TEST(Cli, WoodOnlySetsTheLeavesOfALeafyTreeAside) {
   EXPECT_EQ(io::read_point_cloud(dir.path("out/tree_arbor_leafy_leaves.ply")).size(), leaves);
 }
 
+// Without --wood-only, a cloud that looks leafy is said to be, on stderr and in the report's
+// warnings, by skeletonize and model; a leafless tree is not, nor a cloud whose leaves were set aside.
+TEST(Cli, ALeafyCloudIsCalledLeafy) {
+  const test::TempDir dir;
+  const std::string leafy = quoted(test::data_file("tree_arbor_leafy.xyz"));
+  const auto leafy_warnings = [&](const std::string& args) {
+    const Result r = run(args + " --report r.json", dir.root());
+    EXPECT_EQ(r.code, 0) << args << ": " << r.out;
+    std::ifstream in(dir.path("r.json"));
+    const auto report = nlohmann::json::parse(in);
+    std::size_t count = 0;
+    for (const auto& w : report.at("warnings"))
+      count += w.get<std::string>().find("looks leafy") != std::string::npos;
+    EXPECT_EQ(count > 0, r.out.find("looks leafy") != std::string::npos) << args << ": " << r.out;
+    return count;
+  };
+  EXPECT_EQ(leafy_warnings("skeletonize " + leafy + " -o s.ply"), 1u);
+  EXPECT_EQ(leafy_warnings("model " + leafy + " -o m.ply"), 1u);
+  EXPECT_EQ(leafy_warnings("skeletonize " + leafy + " --wood-only -o s.ply"), 0u);
+  EXPECT_EQ(leafy_warnings("skeletonize " + quoted(test::data_file("tree_adtree1.xyz")) + " -o s.ply"), 0u);
+}
+
 TEST(Cli, AnOutputThatIsASymbolicLinkStaysOne) {
   const test::TempDir dir;
   fs::create_directory(dir.path("real"));

@@ -1,5 +1,6 @@
 // Wood and leaves: a synthetic plot's tree told apart point by point whatever the thread count; a bare
-// trunk is wood in any unit; a cluster of leaves beside it is leaves; tiny clouds are all wood.
+// trunk is wood in any unit; a cluster of leaves beside it is leaves; tiny clouds are all wood; the
+// estimate that calls a cloud leafy.
 #include "treeskel/eval/cylinders.h"
 #include "treeskel/eval/plots.h"
 #include "treeskel/forest/wood.h"
@@ -17,13 +18,13 @@ namespace treeskel::forest {
 namespace {
 
 /// Tree 1 of a small synthetic plot: its points and whether each is wood.
-PointCloud plot_tree(std::vector<std::uint8_t>& wood) {
+PointCloud plot_tree(std::vector<std::uint8_t>& wood, std::size_t points_per_tree = 12000) {
   eval::PlotOptions o;
   o.seed = 2;
   o.trees = 2;
   o.width = 10.0;
   o.shrubs = 0;
-  o.points_per_tree = 12000;
+  o.points_per_tree = points_per_tree;
   const eval::SyntheticPlot plot = eval::make_plot(o);
   PointCloud tree;
   for (std::size_t p = 0; p < plot.cloud.size(); ++p)
@@ -76,22 +77,31 @@ PointCloud trunk(double scale) {
   return cloud;
 }
 
-TEST(SeparateWood, ARealBroadleafInLeafAgainstItsLabels) {
-  // Every fourth point of arbor's tree, with the source's labels (foliage 0 = wood).
-  std::ifstream in(test::data_file("tree_arbor_leafy.xyz"));
+/// A bundled text cloud's first three columns; the fourth, when `foliage` is given, as "is wood"
+/// (foliage 0).
+PointCloud read_bundled(const std::string& name, std::vector<bool>* foliage = nullptr) {
+  std::ifstream in(test::data_file(name));
   std::string line;
   PointCloud cloud;
-  std::vector<bool> truth;
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
     std::istringstream row(line);
-    double x, y, z, foliage;
-    ASSERT_TRUE(row >> x >> y >> z >> foliage) << line;
+    double x, y, z, label = 0;
+    row >> x >> y >> z;
+    if (foliage) row >> label;
+    EXPECT_FALSE(row.fail()) << name << ": " << line;
     cloud.positions.emplace_back(x, y, z);
-    truth.push_back(foliage == 0);
+    if (foliage) foliage->push_back(label == 0);
   }
-  ASSERT_EQ(cloud.size(), 36478u);
   recentre_offset(cloud);
+  return cloud;
+}
+
+TEST(SeparateWood, ARealBroadleafInLeafAgainstItsLabels) {
+  // Every fourth point of arbor's tree, with the source's labels (foliage 0 = wood).
+  std::vector<bool> truth;
+  const PointCloud cloud = read_bundled("tree_arbor_leafy.xyz", &truth);
+  ASSERT_EQ(cloud.size(), 36478u);
   const WoodLeaf w = separate_wood(cloud);
   std::size_t wood = 0, called_wood = 0, both = 0;
   for (std::size_t p = 0; p < cloud.size(); ++p) {
@@ -102,6 +112,33 @@ TEST(SeparateWood, ARealBroadleafInLeafAgainstItsLabels) {
   // Measured: wood recall 0.921, precision 0.839 (docs/plots.md).
   EXPECT_GT(static_cast<double>(both) / wood, 0.91);
   EXPECT_GT(static_cast<double>(both) / called_wood, 0.83);
+}
+
+// The estimate from crops at the cloud's own density: close to the whole cloud's share, leafy for
+// the trees in leaf (real and synthetic), not for a leafless real tree or a bare trunk; a cloud of
+// few points is classified whole.
+TEST(EstimateLeafShare, TellsALeafyTreeFromALeaflessOne) {
+  const PointCloud leafy = read_bundled("tree_arbor_leafy.xyz");
+  const double whole = separate_wood(leafy).leaf_share();
+  const double estimate = estimate_leaf_share(leafy);
+  EXPECT_NEAR(estimate, whole, 0.03);  // measured 0.239 against 0.229
+  EXPECT_GE(estimate, kLeafyShare);
+  EXPECT_EQ(estimate_leaf_share(leafy, {40000}), whole);
+
+  // A synthetic tree in leaf, large enough to be cropped (measured 0.268 against 0.280).
+  std::vector<std::uint8_t> wood;
+  const PointCloud synthetic = plot_tree(wood, 40000);
+  ASSERT_GT(synthetic.size(), 32000u);
+  const double synthetic_whole = separate_wood(synthetic).leaf_share(), synthetic_estimate = estimate_leaf_share(synthetic);
+  EXPECT_NEAR(synthetic_estimate, synthetic_whole, 0.04);
+  EXPECT_GE(synthetic_estimate, kLeafyShare);
+
+  // Leafless: the real tree whole and cropped small, and a bare trunk cropped.
+  const PointCloud leafless = read_bundled("tree_adtree1.xyz");
+  ASSERT_EQ(leafless.size(), 11855u);
+  EXPECT_LT(estimate_leaf_share(leafless, {1000, 30, 320, 50}), 0.05);  // measured 0.009
+  EXPECT_LT(estimate_leaf_share(leafless), 0.05);  // measured 0.007 (whole)
+  EXPECT_LT(estimate_leaf_share(trunk(1.0), {1000, 10, 100, 20}), kLeafyShare);
 }
 
 TEST(SeparateWood, ABareTrunkIsWoodInAnyUnit) {
@@ -150,7 +187,9 @@ TEST(SeparateWood, WoodCutOffByLeavesIsJoinedBackToTheStem) {
   EXPECT_LT(joined.joined, 100u);
   std::size_t changed = 0;
   for (std::size_t p = 0; p < cloud.size(); ++p) {
-    if (cut.is_wood[p]) ASSERT_EQ(joined.is_wood[p], 1);
+    if (cut.is_wood[p]) {
+      ASSERT_EQ(joined.is_wood[p], 1);
+    }
     if (joined.is_wood[p] != cut.is_wood[p]) {
       ++changed;
       EXPECT_GE(p, 2 * bark) << "a joining point is a leaf point of the gap";

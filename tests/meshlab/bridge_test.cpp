@@ -177,6 +177,11 @@ TEST(MeshlabBridge, MeshLayerCarriesTheCommandsWarnings) {
   MeshLayer plain;
   ASSERT_TRUE(tree_mesh(flat_cloud("tree_rtwig.txt"), default_skeleton_params(), default_model_params(), nullptr, plain, error));
   EXPECT_TRUE(plain.warnings.empty()) << plain.warnings.front();
+  // A broadleaf in leaf: said to look leafy, first.
+  MeshLayer leafy;
+  ASSERT_TRUE(tree_mesh(flat_cloud("tree_arbor_leafy.xyz"), default_skeleton_params(), default_model_params(), nullptr, leafy, error));
+  ASSERT_FALSE(leafy.warnings.empty());
+  EXPECT_NE(leafy.warnings.front().find("looks leafy"), std::string::npos) << leafy.warnings.front();
 }
 
 TEST(MeshlabBridge, CloudsTheMethodCannotUseAreErrorsNotExceptions) {

@@ -40,6 +40,25 @@ struct WoodLeaf {
 /// (too few for the neighbourhoods). Deterministic, and the same for any number of threads.
 WoodLeaf separate_wood(const PointCloud& cloud, const WoodOptions& options = {});
 
+/// A single tree's cloud in which at least this share of the points look like leaves to
+/// `estimate_leaf_share` is called leafy (docs/plots.md: the shares of the clouds we have).
+constexpr double kLeafyShare = 0.16;
+
+/// Where `estimate_leaf_share` looks. The rule depends on the density (a leaf cluster thinned out
+/// stops scattering), so a large cloud is not thinned but cut into small crops at its own density:
+/// around `sites` points taken evenly through the cloud's order, the `crop` nearest to each, of which
+/// the `inner` nearest count (their neighbourhoods lie within the crop).
+struct LeafShareSample {
+  std::size_t whole_up_to = 20000;  ///< a cloud of this many points or fewer is classified whole
+  std::size_t sites = 100;
+  std::size_t crop = 320;
+  std::size_t inner = 50;
+};
+
+/// The share of `cloud`'s points `separate_wood` would call leaves, estimated where the cloud is
+/// large: one pass over its points and the rule on sites x crop of them. Deterministic.
+double estimate_leaf_share(const PointCloud& cloud, const LeafShareSample& sample = {});
+
 /// The points of `cloud` whose `keep` is `value`, with their normals, colours and classes; same offset.
 PointCloud select_points(const PointCloud& cloud, const std::vector<std::uint8_t>& keep, std::uint8_t value);
 
