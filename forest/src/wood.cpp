@@ -20,18 +20,30 @@ namespace {
 constexpr std::size_t kNear = 40;    // neighbours of the shape and the density
 constexpr std::size_t kSmooth = 20;  // ... the score is averaged over
 
-/// Planarity and scattering of the covariance of the sums of `count` points.
-void shape_of(const Eigen::Vector3d& sum, const Eigen::Matrix3d& outer, std::size_t count, double& planarity,
-              double& scattering) {
+/// The shape part of the score, 0.25 planarity - scattering, from the sums of `count` points
+/// (positions relative to one of them, so that the sums stay small).
+double shape_term(const Eigen::Vector3d& sum, const Eigen::Matrix3d& outer, std::size_t count) {
   const double n = static_cast<double>(count);
   const Eigen::Vector3d mean = sum / n;
   const Eigen::Matrix3d cov = outer / n - mean * mean.transpose();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
   eig.computeDirect(cov, Eigen::EigenvaluesOnly);
   const Eigen::Vector3d l = eig.eigenvalues().cwiseMax(0.0);  // ascending
-  planarity = l(2) > 0 ? (l(1) - l(0)) / l(2) : 0.0;
-  scattering = l(2) > 0 ? l(0) / l(2) : 0.0;
+  if (!(l(2) > 0)) return 0.0;
+  return 0.25 * (l(1) - l(0)) / l(2) - l(0) / l(2);
 }
+
+/// The median of the distances to the 40th neighbour (the largest when that is 0: duplicates).
+double median_reach(std::vector<double> reach) {
+  const std::size_t half = reach.size() / 2;
+  std::nth_element(reach.begin(), reach.begin() + static_cast<std::ptrdiff_t>(half), reach.end());
+  const double median = reach[half];
+  return median > 0 ? median : std::max(*std::max_element(reach.begin(), reach.end()), 1e-300);
+}
+
+/// The density part of the score: -0.25 ln(d40 / median d40). A distance of 0 (duplicate points) is
+/// not infinitely dense: it counts as a thousandth of the median.
+double density_term(double reach, double median) { return -0.25 * std::log(std::max(reach, median * 1e-3) / median); }
 
 /// The wood cut off from the largest part of it by points called leaves (a twig in a crown whose bark
 /// looks like foliage for a stretch) joined back: the points called leaves on the shortest way back
@@ -148,19 +160,13 @@ WoodLeaf separate_wood(const PointCloud& cloud, const WoodOptions& options) {
         if (k < kSmooth) nearest[p * kSmooth + k] = it->first;
         reach[p] = std::sqrt(it->second);
       }
-      double planarity = 0, scattering = 0;
-      shape_of(sum, outer, k, planarity, scattering);
-      partial[p] = 0.25 * planarity - scattering;
+      partial[p] = shape_term(sum, outer, k);
     }
   });
   // Density relative to the cloud's own: the median distance to the 40th neighbour.
-  std::vector<double> sorted = reach;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(n / 2), sorted.end());
-  double median = sorted[n / 2];
-  if (!(median > 0)) median = std::max(*std::max_element(reach.begin(), reach.end()), 1e-300);
-  const double floor = median * 1e-3;  // duplicate points: a distance of 0 is not infinitely dense
+  const double median = median_reach(reach);
   std::vector<double> raw(n);
-  for (std::size_t p = 0; p < n; ++p) raw[p] = partial[p] - 0.25 * std::log(std::max(reach[p], floor) / median);
+  for (std::size_t p = 0; p < n; ++p) raw[p] = partial[p] + density_term(reach[p], median);
   for (std::size_t p = 0; p < n; ++p) {
     double s = 0;
     for (std::size_t k = 0; k < kSmooth; ++k) s += raw[nearest[p * kSmooth + k]];
@@ -177,10 +183,10 @@ WoodLeaf separate_wood(const PointCloud& cloud, const WoodOptions& options) {
 double estimate_leaf_share(const PointCloud& cloud, const LeafShareSample& sample) {
   const std::size_t n = cloud.size(), sites = std::max<std::size_t>(sample.sites, 1);
   const std::size_t crop = std::max(sample.crop, kNear + 1), inner = std::min(std::max<std::size_t>(sample.inner, 1), crop);
-  if (n <= std::max(sample.whole_up_to, sites * crop)) return separate_wood(cloud).leaf_share();
-  // The sites: points evenly through the cloud's order. Every point goes to its nearest site.
-  // In floats, coordinates apart, so that the loop over the sites vectorises: a crop wants only
-  // about the nearest points.
+  if (n <= std::max(sample.whole_up_to, kNear * sites)) return separate_wood(cloud).leaf_share();
+  // The sites: points evenly through the cloud's order. Every point goes to its nearest site (in
+  // floats, coordinates apart, so that the loop over the sites vectorises: a crop wants only about
+  // the nearest points).
   std::vector<float> sx(sites), sy(sites), sz(sites);
   for (std::size_t s = 0; s < sites; ++s) {
     const Eigen::Vector3d& q = cloud.positions[(2 * s + 1) * n / (2 * sites)];
@@ -210,31 +216,67 @@ double estimate_leaf_share(const PointCloud& cloud, const LeafShareSample& sampl
     std::vector<std::size_t> next(start.begin(), start.end() - 1);
     for (std::size_t p = 0; p < n; ++p) order[next[owner[p]]++] = static_cast<std::uint32_t>(p);
   }
-  PointCloud crops;
-  std::vector<std::uint8_t> counted;
+  // Within each crop, by brute force: each counted point's kSmooth nearest, and the score's terms
+  // for those. The crops are scored apart and in parallel; the median over all of them.
+  struct Crop {
+    std::vector<std::uint32_t> smooth;  // per counted point, its kSmooth nearest (crop indices)
+    std::vector<double> shape, reach;   // per crop point (NaN: not needed)
+  };
+  std::vector<Crop> crops(sites);
   const auto nearer = [&](std::uint32_t a, std::uint32_t b) { return distance[a] < distance[b] || (distance[a] == distance[b] && a < b); };
-  for (std::size_t s = 0; s < sites; ++s) {
+  tbb::parallel_for(std::size_t(0), sites, [&](std::size_t s) {
     const auto first = order.begin() + static_cast<std::ptrdiff_t>(start[s]), last = order.begin() + static_cast<std::ptrdiff_t>(start[s + 1]);
+    if (static_cast<std::size_t>(last - first) <= kNear) return;  // a site with too few points of its own
     // nth_element(first, nth, last) leaves the nearest before nth.
     const auto end = static_cast<std::size_t>(last - first) > crop ? first + static_cast<std::ptrdiff_t>(crop) : last;
     if (end != last) std::nth_element(first, end, last, nearer);
     const auto middle = static_cast<std::size_t>(end - first) > inner ? first + static_cast<std::ptrdiff_t>(inner) : end;
     if (middle != end) std::nth_element(first, middle, end, nearer);
-    for (auto it = first; it != end; ++it) {
-      crops.positions.push_back(cloud.positions[*it]);
-      counted.push_back(it < middle);
+    const std::vector<std::uint32_t> points(first, end);
+    const std::size_t m = points.size(), counted = static_cast<std::size_t>(middle - first);
+    // The `k` nearest of crop point i (itself first), by distance then index.
+    std::vector<std::pair<double, std::uint32_t>> by(m);
+    const auto nearest = [&](std::size_t i, std::size_t k) {
+      for (std::size_t j = 0; j < m; ++j) by[j] = {(cloud.positions[points[j]] - cloud.positions[points[i]]).squaredNorm(), static_cast<std::uint32_t>(j)};
+      std::partial_sort(by.begin(), by.begin() + static_cast<std::ptrdiff_t>(k), by.end());
+    };
+    Crop& c = crops[s];
+    c.shape.assign(m, std::numeric_limits<double>::quiet_NaN());
+    c.reach.assign(m, std::numeric_limits<double>::quiet_NaN());
+    for (std::size_t i = 0; i < counted; ++i) {
+      nearest(i, kSmooth);
+      for (std::size_t k = 0; k < kSmooth; ++k) c.smooth.push_back(by[k].second);
     }
-  }
-  WoodOptions options;
-  options.join_parts = 0;  // crops apart: nothing to join
-  const WoodLeaf w = separate_wood(crops, options);
+    for (const std::uint32_t i : c.smooth) {
+      if (!std::isnan(c.shape[i])) continue;
+      nearest(i, kNear);
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+      for (std::size_t k = 0; k < kNear; ++k) {
+        const Eigen::Vector3d q = cloud.positions[points[by[k].second]] - cloud.positions[points[i]];
+        sum += q;
+        outer += q * q.transpose();
+      }
+      c.shape[i] = shape_term(sum, outer, kNear);
+      c.reach[i] = std::sqrt(by[kNear - 1].first);
+    }
+  });
+  std::vector<double> reach;
+  for (const Crop& c : crops)
+    for (const double r : c.reach)
+      if (!std::isnan(r)) reach.push_back(r);
+  if (reach.empty()) return separate_wood(cloud).leaf_share();
+  const double median = median_reach(std::move(reach));
+  const WoodOptions defaults;
   std::size_t leaves = 0, total = 0;
-  for (std::size_t p = 0; p < crops.size(); ++p)
-    if (counted[p]) {
+  for (const Crop& c : crops)
+    for (std::size_t i = 0; i < c.smooth.size(); i += kSmooth) {
+      double score = 0;
+      for (std::size_t k = 0; k < kSmooth; ++k) score += c.shape[c.smooth[i + k]] + density_term(c.reach[c.smooth[i + k]], median);
       ++total;
-      leaves += !w.is_wood[p];
+      leaves += score / static_cast<double>(kSmooth) <= defaults.threshold;
     }
-  return total ? static_cast<double>(leaves) / static_cast<double>(total) : 0.0;
+  return static_cast<double>(leaves) / static_cast<double>(total);
 }
 
 PointCloud select_points(const PointCloud& cloud, const std::vector<std::uint8_t>& keep, std::uint8_t value) {

@@ -116,28 +116,32 @@ TEST(SeparateWood, ARealBroadleafInLeafAgainstItsLabels) {
 
 // The estimate from crops at the cloud's own density: close to the whole cloud's share, leafy for
 // the trees in leaf (real and synthetic), not for a leafless real tree or a bare trunk; a cloud of
-// few points is classified whole.
+// up to `whole_up_to` points is classified whole.
 TEST(EstimateLeafShare, TellsALeafyTreeFromALeaflessOne) {
   const PointCloud leafy = read_bundled("tree_arbor_leafy.xyz");
   const double whole = separate_wood(leafy).leaf_share();
   const double estimate = estimate_leaf_share(leafy);
-  EXPECT_NEAR(estimate, whole, 0.03);  // measured 0.239 against 0.229
+  EXPECT_NEAR(estimate, whole, 0.03);  // measured 0.246 against 0.229
   EXPECT_GE(estimate, kLeafyShare);
   EXPECT_EQ(estimate_leaf_share(leafy, {40000}), whole);
 
-  // A synthetic tree in leaf, large enough to be cropped (measured 0.268 against 0.280).
+  // A synthetic tree in leaf, cropped (measured 0.274 against 0.280).
   std::vector<std::uint8_t> wood;
   const PointCloud synthetic = plot_tree(wood, 40000);
   ASSERT_GT(synthetic.size(), 32000u);
   const double synthetic_whole = separate_wood(synthetic).leaf_share(), synthetic_estimate = estimate_leaf_share(synthetic);
   EXPECT_NEAR(synthetic_estimate, synthetic_whole, 0.04);
   EXPECT_GE(synthetic_estimate, kLeafyShare);
+  {
+    const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    EXPECT_EQ(estimate_leaf_share(synthetic), synthetic_estimate);
+  }
 
-  // Leafless: the real tree whole and cropped small, and a bare trunk cropped.
+  // Leafless: the real tree cropped, and cropped small, and a bare trunk cropped small.
   const PointCloud leafless = read_bundled("tree_adtree1.xyz");
   ASSERT_EQ(leafless.size(), 11855u);
-  EXPECT_LT(estimate_leaf_share(leafless, {1000, 30, 320, 50}), 0.05);  // measured 0.009
-  EXPECT_LT(estimate_leaf_share(leafless), 0.05);  // measured 0.007 (whole)
+  EXPECT_LT(estimate_leaf_share(leafless, {1000, 30, 320, 50}), 0.06);  // measured 0.030
+  EXPECT_LT(estimate_leaf_share(leafless), 0.05);  // measured 0.013 (0.007 whole)
   EXPECT_LT(estimate_leaf_share(trunk(1.0), {1000, 10, 100, 20}), kLeafyShare);
 }
 

@@ -44,19 +44,22 @@ WoodLeaf separate_wood(const PointCloud& cloud, const WoodOptions& options = {})
 /// `estimate_leaf_share` is called leafy (docs/plots.md: the shares of the clouds we have).
 constexpr double kLeafyShare = 0.16;
 
-/// Where `estimate_leaf_share` looks. The rule depends on the density (a leaf cluster thinned out
-/// stops scattering), so a large cloud is not thinned but cut into small crops at its own density:
-/// around `sites` points taken evenly through the cloud's order, the `crop` nearest to each, of which
-/// the `inner` nearest count (their neighbourhoods lie within the crop).
+/// Where `estimate_leaf_share` looks. The rule depends on the density (a cluster of leaves thinned
+/// out stops scattering), so a large cloud is not thinned but cropped at its own density: around
+/// `sites` points taken evenly through the cloud's order, each site's `crop` nearest of the points
+/// nearer to it than to any other site; the `inner` nearest of them count, scored within the crop
+/// (their neighbourhoods lie inside it).
 struct LeafShareSample {
-  std::size_t whole_up_to = 20000;  ///< a cloud of this many points or fewer is classified whole
+  std::size_t whole_up_to = 10000;  ///< a cloud of this many points or fewer is classified whole
   std::size_t sites = 100;
   std::size_t crop = 320;
   std::size_t inner = 50;
 };
 
-/// The share of `cloud`'s points `separate_wood` would call leaves, estimated where the cloud is
-/// large: one pass over its points and the rule on sites x crop of them. Deterministic.
+/// The share of `cloud`'s points `separate_wood` would call leaves (before it joins cut-off wood
+/// back), estimated where the cloud is large: one pass over its points and the rule on sites x inner
+/// of them, 0.03-0.05 s whatever the size (0.12 s for 1.5 M points). Deterministic, and the same for
+/// any number of threads.
 double estimate_leaf_share(const PointCloud& cloud, const LeafShareSample& sample = {});
 
 /// The points of `cloud` whose `keep` is `value`, with their normals, colours and classes; same offset.
