@@ -223,17 +223,6 @@ nlohmann::ordered_json row_json(const BatchRow& r) {
   return j;
 }
 
-std::string csv_text(const nlohmann::ordered_json& v) {
-  if (v.is_null()) return "";
-  if (v.is_string()) return v.get<std::string>();
-  if (v.is_array()) {
-    std::string out;
-    for (const auto& e : v) out += (out.empty() ? "" : "; ") + csv_text(e);
-    return out;
-  }
-  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
-  return v.dump();
-}
 
 /// A number of the summary as the index shows it ("" for none).
 std::string index_number(const nlohmann::ordered_json& v, int digits = 3) {
@@ -348,6 +337,18 @@ std::string row_line(const BatchRow& r, std::size_t done, std::size_t total) {
 }
 
 }  // namespace
+
+std::string csv_text(const nlohmann::ordered_json& v) {
+  if (v.is_null()) return "";
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_array()) {
+    std::string out;
+    for (const auto& e : v) out += (out.empty() ? "" : "; ") + csv_text(e);
+    return out;
+  }
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  return v.dump();
+}
 
 int run_batch(BatchSettings& s, std::vector<BatchRow>* finished) {
   Stopwatch clock;

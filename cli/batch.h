@@ -50,6 +50,9 @@ struct BatchRow {
 /// `command`, and lists them in `s.passed` (and those only `model` has in `s.model_only`).
 void add_tree_options(CLI::App& command, BatchSettings& s);
 
+/// A value of a summary as the text of one CSV cell: a list joined by "; ", null empty.
+std::string csv_text(const nlohmann::ordered_json& value);
+
 /// Runs the batch `s` describes; the rows, when asked, once it ends. Returns the exit code: 0 when
 /// every tree converted, 1 when any failed, 128 + the signal when it was stopped.
 int run_batch(BatchSettings& s, std::vector<BatchRow>* finished = nullptr);

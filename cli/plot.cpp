@@ -200,7 +200,7 @@ int run(Settings& s) {
 
   // trees.csv and trees.json: one row per stem.
   const std::vector<std::string> columns{"id", "name", "x", "y", "ground_z", "points", "height", "crown_base", "stem_dbh",
-                                         "dbh", "volume", "skeleton_coverage", "status", "model", "error"};
+                                         "dbh", "volume", "skeleton_coverage", "status", "warnings", "model", "error"};
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
   std::size_t ok = 0;
   for (std::size_t t = 0; t < stems.size(); ++t) {
@@ -219,6 +219,7 @@ int run(Settings& s) {
     j["dbh"] = nullptr;
     j["volume"] = nullptr;
     j["skeleton_coverage"] = nullptr;
+    j["warnings"] = nlohmann::ordered_json::array();
     j["model"] = nullptr;
     j["error"] = nullptr;
     const auto it = rows.find(names[t]);
@@ -238,6 +239,7 @@ int run(Settings& s) {
       j["volume"] = fact("/measurements/volume");
       j["skeleton_coverage"] = fact("/mesh/skeleton_coverage");
       j["status"] = r.status;
+      if (f.is_object() && f.contains("warnings")) j["warnings"] = f["warnings"];
       if (r.status == "ok" && !r.outputs.empty()) j["model"] = fs::relative(r.outputs.front(), out_dir).generic_string();
       if (!r.error.empty()) j["error"] = r.error;
       ok += r.status == "ok";
@@ -250,7 +252,7 @@ int run(Settings& s) {
     for (const auto& j : list) {
       for (std::size_t c = 0; c < columns.size(); ++c) {
         const auto& v = j[columns[c]];
-        out << (c ? "," : "") << (v.is_null() ? "" : v.is_string() ? csv_field(v.get<std::string>()) : v.dump());
+        out << (c ? "," : "") << csv_field(csv_text(v));
       }
       out << '\n';
     }
@@ -298,7 +300,7 @@ Command add_plot(CLI::App& app) {
       "height above the ground), OUTDIR/trees/tree_NNN.ply (each tree's points) with tree_NNN.glb and "
       "tree_NNN_report.json beside (and tree_NNN_leaves.ply with --wood-only), OUTDIR/trees.csv and trees.json (id, stem position in the input's frame, "
       "ground elevation, points, height, crown base, stem DBH from the slice, model DBH, volume, coverage, "
-      "status) and OUTDIR/plan.png (the plot from above, a colour and the id per tree). Exit code 0 when every "
+      "status, the model's warnings) and OUTDIR/plan.png (the plot from above, a colour and the id per tree). Exit code 0 when every "
       "tree with --min-tree-points or more points modelled, 1 when any failed or no stem was found.");
   c->add_option("input", s->input, "The plot's cloud (.xyz .txt .csv .ply .las .laz ...)")->required();
   c->add_option("-o,--output", s->batch.out_dir, "Folder to write into (made if missing)")->required();

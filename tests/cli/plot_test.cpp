@@ -67,6 +67,10 @@ TEST(Plot, TwoTreesSideBySideGiveTwoModelsInTheInputsFrame) {
     EXPECT_NEAR(row["height"].get<double>(), 5.5, 0.3);
     EXPECT_NEAR(row["dbh"].get<double>(), 0.18, 0.03);
     EXPECT_GT(row["skeleton_coverage"].get<double>(), 0.95);
+    // The model's warnings, as its report has them.
+    char report[64];
+    std::snprintf(report, sizeof report, "out/trees/tree_%03d_report.json", t + 1);
+    EXPECT_EQ(row["warnings"], read_json(dir.path(report))["warnings"]) << row;
     // The model, re-read: closed.
     const modeling::TreeMesh mesh = io::read_mesh(dir.path("out/" + row["model"].get<std::string>()));
     EXPECT_EQ(modeling::check_mesh(mesh, false).boundary_edges, 0u);
@@ -79,12 +83,25 @@ TEST(Plot, TwoTreesSideBySideGiveTwoModelsInTheInputsFrame) {
             std::string::npos);
   EXPECT_EQ(read_text(dir.path("out/plan.png")).substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
   EXPECT_EQ(std::count(std::istreambuf_iterator<char>(*std::make_unique<std::ifstream>(dir.path("out/trees.csv"))), {}, '\n'), 3);
+  const std::string csv = read_text(dir.path("out/trees.csv"));
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "id,name,x,y,ground_z,points,height,crown_base,stem_dbh,dbh,volume,skeleton_coverage,status,warnings,model,error");
 
   // Again with --resume: the same trees, so their models are kept, not made again.
   const Result again = run("plot " + quoted(dir.path("two.ply")) + " -o " + quoted(dir.path("out")) + " --local --resume");
   ASSERT_EQ(again.code, 0) << again.out;
   EXPECT_NE(again.out.find("2 inputs: 2 converted (2 before this run)"), std::string::npos) << again.out;
   EXPECT_EQ(read_json(dir.path("out/trees.json"))["trees"], doc["trees"]);
+
+  // A model option that makes each model warn (the trees are 5.5 m tall): the table carries it.
+  const Result tall = run("plot " + quoted(dir.path("two.ply")) + " -o " + quoted(dir.path("tall")) + " --local --breast-height 6");
+  ASSERT_EQ(tall.code, 0) << tall.out;
+  const auto warned = read_json(dir.path("tall/trees.json"));
+  ASSERT_EQ(warned["trees"].size(), 2u);
+  const std::string first = warned["trees"][0]["warnings"].at(0).get<std::string>();
+  EXPECT_NE(first.find("breast height"), std::string::npos) << first;
+  const std::string table = read_text(dir.path("tall/trees.csv"));
+  EXPECT_NE(table.find("breast height", table.find('\n')), std::string::npos) << table;
 }
 
 TEST(Plot, ASyntheticPlotSegmentedOnly) {
