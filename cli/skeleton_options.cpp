@@ -47,8 +47,9 @@ void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
              "Keep only the points that look like wood for the skeleton and the model: bark is a surface scanned at "
              "least as densely as the foliage, leaves and needles scatter (scored over each point's 40 nearest; no "
              "units). On a leafy broadleaf it keeps 90% of the wood with 12% of what it keeps leaves; on leafless "
-             "trees it calls up to 8% of the points (thin twigs) leaves, and on that leafy tree it cut the thin top of "
-             "the crown from the model: it is off by default, for plot too. See docs/plots.md")
+             "trees it calls up to 10% of the points (thin twigs) leaves, and on that leafy tree it cut the thin top of "
+             "the crown from the model: it is off by default, for plot too. Without it, a cloud in which 16% or more of "
+             "the points look like leaves gets a warning. See docs/plots.md")
       ->group(g);
   c.add_option("--up", s.up, "Axis the tree grows along: x, y, z, -x, -y, -z or 'x,y,z'")->default_val("z")->group(g);
   c.add_option("--root", s.root, "Point 'x,y,z' (input frame) where the tree stands (default: lowest part of the cloud)")->group(g);

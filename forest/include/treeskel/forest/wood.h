@@ -8,7 +8,7 @@
 /// scattering l0 / l2; d40 the distance to the 40th, the median over the cloud), averaged over the
 /// 20 nearest; a point is wood above the threshold. Unsupervised and scale-free: no training, no
 /// units, no up axis. Its limits are measured in docs/plots.md: thin twigs high in a crown look like
-/// leaves to it (on leafless trees it calls up to 8% of the points leaves), and it leaves about a
+/// leaves to it (on leafless trees it calls up to 10% of the points leaves), and it leaves about a
 /// tenth of the foliage in.
 #pragma once
 
