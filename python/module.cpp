@@ -63,6 +63,7 @@ struct Mesh {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   std::shared_ptr<const PySkeleton> skeleton;  // for with_skeleton, and to sweep again for a file in other floats
   modeling::SweepOptions options;               // what it was swept with
+  modeling::SweepStats stats;                   // what the sweep did (for the model's warnings)
 };
 
 /// The options of the command line named by `kwargs`, parsed by the command line's own parser: the same
@@ -226,21 +227,35 @@ Mesh sweep(const std::shared_ptr<const PySkeleton>& s, const Options& o) {
   m.options = o.model.sweep;
   m.options.local_floats = o.model.local;
   py::gil_scoped_release free;
-  m.mesh = modeling::sweep_mesh(s->skeleton, m.options);
+  m.mesh = modeling::sweep_mesh(s->skeleton, m.options, &m.stats);
   return m;
 }
 
-py::object measurements(const PySkeleton& s, const Options& o) {
+modeling::TreeMeasurements measure(const PySkeleton& s, const Options& o) {
   modeling::MeasureOptions mo;
   mo.up = s.up;
   mo.breast_height = o.model.breast_height;
   mo.dbh_from_points = !o.model.dbh_from_model;
-  modeling::TreeMeasurements m;
+  py::gil_scoped_release free;
+  return modeling::measure_tree(s.skeleton, s.cloud ? &s.cloud->cloud : nullptr, mo);
+}
+
+py::object measurements(const PySkeleton& s, const Options& o) { return json_to_python(cli::measurements_json(measure(s, o))); }
+
+/// What `treeskel model` warns about for this model, as Python UserWarnings (one each).
+void warn_about_model(const PySkeleton& s, const Mesh& mesh, const modeling::TreeMeasurements& m, const Options& o) {
+  std::vector<std::string> warnings;
   {
     py::gil_scoped_release free;
-    m = modeling::measure_tree(s.skeleton, s.cloud ? &s.cloud->cloud : nullptr, mo);
+    modeling::MeshCheck check = modeling::check_mesh(mesh.mesh, false);
+    check.self_intersections = mesh.stats.self_intersections;
+    check.self_intersections_checked = mesh.options.repair;
+    const modeling::SkeletonCoverage coverage = modeling::skeleton_coverage(s.skeleton, mesh.mesh);
+    warnings = cli::model_warnings({s.skeleton, s.up, m, o.model.breast_height, check, mesh.stats, coverage, mesh.options.unite_apart});
   }
-  return json_to_python(cli::measurements_json(m));
+  const std::string source = s.cloud && !s.cloud->source.empty() ? s.cloud->source : std::string("the points");
+  for (const auto& w : warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, (source + ": " + w).c_str(), 1) < 0) throw py::error_already_set();
 }
 
 }  // namespace
@@ -540,8 +555,11 @@ PYBIND11_MODULE(_treeskel, m) {
     const Options o = parse_options(kwargs, true, true, "model");
     auto s = std::make_shared<PySkeleton>(with_radii(extract(points, o), o));
     Mesh mesh = sweep(s, o);
-    py::object measured = measurements(*s, o);
-    return py::make_tuple(s, std::move(mesh), measured);
+    const modeling::TreeMeasurements m = measure(*s, o);
+    warn_about_model(*s, mesh, m, o);
+    return py::make_tuple(s, std::move(mesh), json_to_python(cli::measurements_json(m)));
   }, py::arg("points"),
-        "skeleton, mesh, measurements = model(points, **options): what `treeskel model` does, with its options");
+        "skeleton, mesh, measurements = model(points, **options): what `treeskel model` does, with its options; what it "
+        "warns about (limbs apart, little of the skeleton in the mesh, an unlikely height or DBH, a leafy cloud) comes as "
+        "UserWarnings");
 }

@@ -55,6 +55,17 @@ def test_model_equals_the_commands(exe, data, tmp_path):
     assert np.array_equal(skeleton.radii, treeskel.fit_radii(skeleton, exponent=2.2).radii)
 
 
+def test_model_warns_as_the_command_does(data):
+    points = np.loadtxt(data / "tree_rtwig.txt")[:, :3]
+    # The bundled tree as it is: nothing to warn about.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        treeskel.model(points)
+    # At a fifth of its size it is 0.74 tall, shorter than breast height: the command's warning.
+    with pytest.warns(UserWarning, match="shorter than breast height"):
+        treeskel.model(points * 0.2)
+
+
 def test_complete_equals_the_commands(exe, data, tmp_path):
     cloud = str(data / "tree_adtree1.xyz")
     skeleton, mesh, _ = treeskel.model(cloud, complete=True)
