@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -184,37 +185,29 @@ double estimate_leaf_share(const PointCloud& cloud, const LeafShareSample& sampl
   const std::size_t n = cloud.size(), sites = std::max<std::size_t>(sample.sites, 1);
   const std::size_t crop = std::max(sample.crop, kNear + 1), inner = std::min(std::max<std::size_t>(sample.inner, 1), crop);
   if (n <= std::max(sample.whole_up_to, kNear * sites)) return separate_wood(cloud).leaf_share();
-  // The sites: points evenly through the cloud's order. Every point goes to its nearest site (in
-  // floats, coordinates apart, so that the loop over the sites vectorises: a crop wants only about
-  // the nearest points).
-  std::vector<float> sx(sites), sy(sites), sz(sites);
-  for (std::size_t s = 0; s < sites; ++s) {
-    const Eigen::Vector3d& q = cloud.positions[(2 * s + 1) * n / (2 * sites)];
-    sx[s] = static_cast<float>(q.x());
-    sy[s] = static_cast<float>(q.y());
-    sz[s] = static_cast<float>(q.z());
-  }
-  std::vector<std::uint32_t> owner(n);
-  std::vector<float> distance(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
-    std::vector<float> d(sites);
-    for (std::size_t p = range.begin(); p != range.end(); ++p) {
-      const auto x = static_cast<float>(cloud.positions[p].x()), y = static_cast<float>(cloud.positions[p].y()),
-                 z = static_cast<float>(cloud.positions[p].z());
-      for (std::size_t s = 0; s < sites; ++s) d[s] = (x - sx[s]) * (x - sx[s]) + (y - sy[s]) * (y - sy[s]) + (z - sz[s]) * (z - sz[s]);
-      const auto at = std::min_element(d.begin(), d.end());
-      owner[p] = static_cast<std::uint32_t>(at - d.begin());
-      distance[p] = *at;
-    }
-  });
-  // Each site's points in the cloud's order, then its `crop` nearest, of which the `inner` nearest count.
-  std::vector<std::size_t> start(sites + 1, 0);
-  for (std::size_t p = 0; p < n; ++p) ++start[owner[p] + 1];
-  for (std::size_t s = 0; s < sites; ++s) start[s + 1] += start[s];
+  // The points in a grid of about 8 a cell over the bounding cube, sorted by cell (a counting sort:
+  // one pass), so that each site's crop is found by rings of cells around it.
+  Eigen::AlignedBox3d box;
+  for (const auto& p : cloud.positions) box.extend(p);
+  const double side = std::max(box.sizes().maxCoeff(), 1e-300);
+  const auto cells_per_axis = static_cast<long>(std::clamp(std::cbrt(static_cast<double>(n) / 8.0), 1.0, 512.0));
+  const double cell = side / static_cast<double>(cells_per_axis);
+  std::array<long, 3> dims{};
+  for (int a = 0; a < 3; ++a) dims[a] = std::clamp(static_cast<long>(box.sizes()[a] / cell) + 1, 1L, cells_per_axis);
+  const auto cell_of = [&](const Eigen::Vector3d& p) {
+    std::array<long, 3> c{};
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<long>((p[a] - box.min()[a]) / cell), 0L, dims[a] - 1);
+    return c;
+  };
+  const auto index_of = [&](const std::array<long, 3>& c) { return static_cast<std::size_t>((c[2] * dims[1] + c[1]) * dims[0] + c[0]); };
+  std::vector<std::size_t> start(static_cast<std::size_t>(dims[0] * dims[1] * dims[2]) + 1, 0);
+  std::vector<std::uint32_t> cell_index(n);
+  for (std::size_t p = 0; p < n; ++p) ++start[(cell_index[p] = static_cast<std::uint32_t>(index_of(cell_of(cloud.positions[p])))) + 1];
+  for (std::size_t c = 0; c + 1 < start.size(); ++c) start[c + 1] += start[c];
   std::vector<std::uint32_t> order(n);
   {
     std::vector<std::size_t> next(start.begin(), start.end() - 1);
-    for (std::size_t p = 0; p < n; ++p) order[next[owner[p]]++] = static_cast<std::uint32_t>(p);
+    for (std::size_t p = 0; p < n; ++p) order[next[cell_index[p]]++] = static_cast<std::uint32_t>(p);
   }
   // Within each crop, by brute force: each counted point's kSmooth nearest, and the score's terms
   // for those. The crops are scored apart and in parallel; the median over all of them.
@@ -223,22 +216,46 @@ double estimate_leaf_share(const PointCloud& cloud, const LeafShareSample& sampl
     std::vector<double> shape, reach;   // per crop point (NaN: not needed)
   };
   std::vector<Crop> crops(sites);
-  const auto nearer = [&](std::uint32_t a, std::uint32_t b) { return distance[a] < distance[b] || (distance[a] == distance[b] && a < b); };
   tbb::parallel_for(std::size_t(0), sites, [&](std::size_t s) {
-    const auto first = order.begin() + static_cast<std::ptrdiff_t>(start[s]), last = order.begin() + static_cast<std::ptrdiff_t>(start[s + 1]);
-    if (static_cast<std::size_t>(last - first) <= kNear) return;  // a site with too few points of its own
-    // nth_element(first, nth, last) leaves the nearest before nth.
-    const auto end = static_cast<std::size_t>(last - first) > crop ? first + static_cast<std::ptrdiff_t>(crop) : last;
-    if (end != last) std::nth_element(first, end, last, nearer);
-    const auto middle = static_cast<std::size_t>(end - first) > inner ? first + static_cast<std::ptrdiff_t>(inner) : end;
-    if (middle != end) std::nth_element(first, middle, end, nearer);
-    const std::vector<std::uint32_t> points(first, end);
-    const std::size_t m = points.size(), counted = static_cast<std::size_t>(middle - first);
+    // The site: a point evenly through the cloud's order. Its crop: the `crop` nearest points, found
+    // ring by ring of cells until no cell farther out can hold a nearer one.
+    const Eigen::Vector3d& site = cloud.positions[(2 * s + 1) * n / (2 * sites)];
+    const std::array<long, 3> centre = cell_of(site);
+    std::vector<std::pair<double, std::uint32_t>> found;  // (squared distance, point)
+    for (long ring = 0;; ++ring) {
+      for (long z = centre[2] - ring; z <= centre[2] + ring; ++z)
+        for (long y = centre[1] - ring; y <= centre[1] + ring; ++y)
+          for (long x = centre[0] - ring; x <= centre[0] + ring; ++x) {
+            if (std::max({std::abs(x - centre[0]), std::abs(y - centre[1]), std::abs(z - centre[2])}) != ring) continue;
+            if (x < 0 || y < 0 || z < 0 || x >= dims[0] || y >= dims[1] || z >= dims[2]) continue;
+            const std::size_t c = index_of({x, y, z});
+            for (std::size_t i = start[c]; i < start[c + 1]; ++i)
+              found.emplace_back((cloud.positions[order[i]] - site).squaredNorm(), order[i]);
+          }
+      // Any point of ring + 1 or beyond lies at least `ring` cells away.
+      const double beyond = static_cast<double>(ring) * cell;
+      const bool whole_grid = ring >= std::max({dims[0], dims[1], dims[2]});
+      if (found.size() >= crop || whole_grid) {
+        const std::size_t k = std::min(crop, found.size());
+        std::nth_element(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(k - 1), found.end());
+        if (whole_grid || found[k - 1].first <= beyond * beyond) {
+          found.resize(k);
+          break;
+        }
+      }
+    }
+    std::sort(found.begin(), found.end());
+    if (found.size() <= kNear) return;
+    std::vector<std::uint32_t> points;
+    for (const auto& f : found) points.push_back(f.second);
+    const std::size_t m = points.size(), counted = std::min(inner, m);
     // The `k` nearest of crop point i (itself first), by distance then index.
     std::vector<std::pair<double, std::uint32_t>> by(m);
     const auto nearest = [&](std::size_t i, std::size_t k) {
       for (std::size_t j = 0; j < m; ++j) by[j] = {(cloud.positions[points[j]] - cloud.positions[points[i]]).squaredNorm(), static_cast<std::uint32_t>(j)};
-      std::partial_sort(by.begin(), by.begin() + static_cast<std::ptrdiff_t>(k), by.end());
+      const auto kth = by.begin() + static_cast<std::ptrdiff_t>(k);
+      std::nth_element(by.begin(), kth - 1, by.end());
+      std::sort(by.begin(), kth);
     };
     Crop& c = crops[s];
     c.shape.assign(m, std::numeric_limits<double>::quiet_NaN());
