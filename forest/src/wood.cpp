@@ -190,7 +190,7 @@ double estimate_leaf_share(const PointCloud& cloud, const LeafShareSample& sampl
   Eigen::AlignedBox3d box;
   for (const auto& p : cloud.positions) box.extend(p);
   const double side = std::max(box.sizes().maxCoeff(), 1e-300);
-  const auto cells_per_axis = static_cast<long>(std::clamp(std::cbrt(static_cast<double>(n) / 8.0), 1.0, 512.0));
+  const auto cells_per_axis = static_cast<long>(std::clamp(std::cbrt(static_cast<double>(n) / 8.0), 1.0, 256.0));  // at most 16.8 M cells
   const double cell = side / static_cast<double>(cells_per_axis);
   std::array<long, 3> dims{};
   for (int a = 0; a < 3; ++a) dims[a] = std::clamp(static_cast<long>(box.sizes()[a] / cell) + 1, 1L, cells_per_axis);

@@ -145,6 +145,21 @@ TEST(EstimateLeafShare, TellsALeafyTreeFromALeaflessOne) {
   EXPECT_LT(estimate_leaf_share(trunk(1.0), {1000, 10, 100, 20}), kLeafyShare);
 }
 
+// Cropped clouds with no extent or no width: every point in one cell, or a line of cells.
+TEST(EstimateLeafShare, DegenerateCloudsAreCroppedToo) {
+  PointCloud one_place, line;
+  for (int i = 0; i < 12000; ++i) {
+    one_place.positions.emplace_back(1.0, 2.0, 3.0);
+    line.positions.emplace_back(0.001 * i, 0.0, 0.0);
+  }
+  for (const PointCloud* cloud : {&one_place, &line}) {
+    const double share = estimate_leaf_share(*cloud);
+    EXPECT_GE(share, 0.0);
+    EXPECT_LE(share, 1.0);
+  }
+  EXPECT_LT(estimate_leaf_share(line), kLeafyShare);
+}
+
 TEST(SeparateWood, ABareTrunkIsWoodInAnyUnit) {
   const WoodLeaf metres = separate_wood(trunk(1.0));
   EXPECT_LT(metres.leaf_share(), 0.02);
