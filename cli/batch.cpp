@@ -223,7 +223,6 @@ nlohmann::ordered_json row_json(const BatchRow& r) {
   return j;
 }
 
-
 /// A number of the summary as the index shows it ("" for none).
 std::string index_number(const nlohmann::ordered_json& v, int digits = 3) {
   if (!v.is_number()) return "";
