@@ -179,6 +179,12 @@ void save_whole(const std::filesystem::path& path, const std::string& what, Writ
   }
 }
 
+/// A UserWarning: `text` after the cloud's file name ("the points" for an array or no cloud).
+void warn_user(const Cloud* cloud, const std::string& text) {
+  const std::string message = (cloud && !cloud->source.empty() ? cloud->source : std::string("the points")) + ": " + text;
+  if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 1) < 0) throw py::error_already_set();
+}
+
 PySkeleton extract(const py::object& points, const Options& o) {
   PySkeleton out;
   out.cloud = cloud_from(points);
@@ -193,10 +199,7 @@ PySkeleton extract(const py::object& points, const Options& o) {
       py::gil_scoped_release free;
       leafy = cli::leafy_warning(out.cloud->cloud);
     }
-    if (!leafy.empty()) {
-      const std::string text = (out.cloud->source.empty() ? std::string("the points") : out.cloud->source) + ": " + leafy;
-      if (PyErr_WarnEx(PyExc_UserWarning, text.c_str(), 1) < 0) throw py::error_already_set();
-    }
+    if (!leafy.empty()) warn_user(out.cloud.get(), leafy);
   }
   const SkeletonOptions options = cli::skeleton_options_for(o.method, out.cloud->cloud);
   out.up = options.root.up;
@@ -253,9 +256,7 @@ void warn_about_model(const PySkeleton& s, const Mesh& mesh, const modeling::Tre
     const modeling::SkeletonCoverage coverage = modeling::skeleton_coverage(s.skeleton, mesh.mesh);
     warnings = cli::model_warnings({s.skeleton, s.up, m, o.model.breast_height, check, mesh.stats, coverage, mesh.options.unite_apart});
   }
-  const std::string source = s.cloud && !s.cloud->source.empty() ? s.cloud->source : std::string("the points");
-  for (const auto& w : warnings)
-    if (PyErr_WarnEx(PyExc_UserWarning, (source + ": " + w).c_str(), 1) < 0) throw py::error_already_set();
+  for (const auto& w : warnings) warn_user(s.cloud.get(), w);
 }
 
 }  // namespace
