@@ -125,9 +125,7 @@ int run(Settings& s) {
     throw InputError(s.input + ": " + e.what());
   }
   progress("checking the mesh", 0.9);
-  modeling::MeshCheck check = modeling::check_mesh(mesh, false);
-  check.self_intersections = sweep_stats.self_intersections;
-  check.self_intersections_checked = s.sweep.repair;
+  const modeling::MeshCheck check = check_swept(mesh, sweep_stats, s.sweep.repair);
   // Several closed components (a limb swept apart that its union did not reach) are written with a
   // warning: leaving them out would lose the limbs. Every warning goes to stderr and into the report.
   if (!check.ok() && !only_apart(check) && !s.allow_defects)

@@ -85,6 +85,13 @@ std::vector<std::string> sanity_warnings(const Skeleton& skeleton, const Eigen::
 
 }  // namespace
 
+modeling::MeshCheck check_swept(const modeling::TreeMesh& mesh, const modeling::SweepStats& stats, bool repaired) {
+  modeling::MeshCheck check = modeling::check_mesh(mesh, false);
+  check.self_intersections = stats.self_intersections;
+  check.self_intersections_checked = repaired;
+  return check;
+}
+
 bool only_apart(const modeling::MeshCheck& check) {
   modeling::MeshCheck as_one = check;
   as_one.components = 1;

@@ -21,6 +21,11 @@ namespace treeskel::cli {
 /// did not reach): written with a warning, since leaving the limbs out would lose them.
 bool only_apart(const modeling::MeshCheck& check);
 
+/// A swept mesh's check as every front end makes it: modeling::check_mesh without its whole-mesh
+/// self-intersection test, whose place the sweep's own test takes (made when `repaired`, the sweep's
+/// `repair` option, is set; otherwise the check says it was not made).
+modeling::MeshCheck check_swept(const modeling::TreeMesh& mesh, const modeling::SweepStats& stats, bool repaired);
+
 /// What a model is made of, for `model_warnings`.
 struct ModelOutcome {
   const Skeleton& skeleton;

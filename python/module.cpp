@@ -250,9 +250,7 @@ void warn_about_model(const PySkeleton& s, const Mesh& mesh, const modeling::Tre
   std::vector<std::string> warnings;
   {
     py::gil_scoped_release free;
-    modeling::MeshCheck check = modeling::check_mesh(mesh.mesh, false);
-    check.self_intersections = mesh.stats.self_intersections;
-    check.self_intersections_checked = mesh.options.repair;
+    const modeling::MeshCheck check = cli::check_swept(mesh.mesh, mesh.stats, mesh.options.repair);
     const modeling::SkeletonCoverage coverage = modeling::skeleton_coverage(s.skeleton, mesh.mesh);
     warnings = cli::model_warnings({s.skeleton, s.up, m, o.model.breast_height, check, mesh.stats, coverage, mesh.options.unite_apart});
   }

@@ -193,9 +193,7 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
     modeling::SweepStats stats;
     const modeling::TreeMesh mesh = modeling::sweep_mesh(skeleton, so, &stats);
     report(progress, "checking the mesh", 0.9, 0, 100);
-    modeling::MeshCheck check = modeling::check_mesh(mesh, false);
-    check.self_intersections = stats.self_intersections;
-    check.self_intersections_checked = so.repair;
+    const modeling::MeshCheck check = cli::check_swept(mesh, stats, so.repair);
     if (!check.ok() && !cli::only_apart(check) && !mp.allow_defects)
       throw Error("the tree mesh failed its check: " + check.problem() + " (\"Keep a defective mesh\" adds it anyway)");
 
