@@ -32,6 +32,7 @@
 #include <memory>
 #include <sstream>
 #include <thread>
+#include <utility>
 #include <vector>
 
 extern char** environ;
@@ -100,12 +101,51 @@ std::vector<std::string> command_for(const BatchSettings& s, const BatchRow& row
 }
 
 /// Starts `args` as a child process of this executable, its output to nowhere, its errors to `log`.
-pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
+/// A tree's process's stderr: a file with no name in the temporary folder, so that nothing is left
+/// behind however the batch ends (a scheduler's SIGKILL too); closed with the object.
+class Log {
+ public:
+  Log() {
+    const std::string dir = fs::temp_directory_path().string();
+    fd_ = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0600);
+    if (fd_ < 0) {  // a file system without O_TMPFILE: a named file, unlinked at once
+      std::string name = (fs::path(dir) / "treeskel-log-XXXXXX").string();
+      fd_ = ::mkostemp(name.data(), O_CLOEXEC);
+      if (fd_ >= 0) ::unlink(name.c_str());
+    }
+    if (fd_ < 0) throw Error("cannot make a temporary file in " + dir + ": " + std::string(std::strerror(errno)));
+  }
+  Log(Log&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+  Log(const Log&) = delete;
+  Log& operator=(const Log&) = delete;
+  Log& operator=(Log&&) = delete;
+  ~Log() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  int fd() const { return fd_; }
+  /// All the process wrote.
+  std::string text() const {
+    std::string out;
+    char buffer[4096];
+    for (off_t at = 0;;) {
+      const ssize_t n = ::pread(fd_, buffer, sizeof buffer, at);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return out;
+      out.append(buffer, static_cast<std::size_t>(n));
+      at += n;
+    }
+  }
+
+ private:
+  int fd_ = -1;
+};
+
+pid_t spawn(const std::vector<std::string>& args, const Log& log) {
   static const fs::path self = fs::read_symlink("/proc/self/exe");
   posix_spawn_file_actions_t actions;
   ::posix_spawn_file_actions_init(&actions);
   ::posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  ::posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  ::posix_spawn_file_actions_adddup2(&actions, log.fd(), STDERR_FILENO);  // the copy does not close on exec
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
@@ -117,8 +157,8 @@ pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
 }
 
 /// What the tree's process said went wrong: its last error line, else its last line.
-std::string error_from_log(const fs::path& log) {
-  std::ifstream in(log);
+std::string error_from_log(const Log& log) {
+  std::istringstream in(log.text());
   std::string line, last, last_error;
   while (std::getline(in, line)) {
     if (line.empty()) continue;
@@ -152,7 +192,7 @@ bool complete(BatchRow& row) {
   return false;
 }
 
-void finish(BatchRow& row, int status, const fs::path& log, bool stopping) {
+void finish(BatchRow& row, int status, const Log& log, bool stopping) {
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
     std::error_code ec;
     for (const auto& p : row.outputs)
@@ -402,18 +442,6 @@ int run_batch(BatchSettings& s, std::vector<BatchRow>* finished) {
     rows.push_back(std::move(r));
   }
 
-  // Logs of the trees' processes, in a private folder removed at the end.
-  std::string log_template = (fs::temp_directory_path() / "treeskel-batch-XXXXXX").string();
-  if (!::mkdtemp(log_template.data())) throw Error("cannot make a temporary folder: " + std::string(std::strerror(errno)));
-  const fs::path logs(log_template);
-  struct LogsGone {
-    fs::path dir;
-    ~LogsGone() {
-      std::error_code ec;
-      fs::remove_all(dir, ec);
-    }
-  } logs_gone{logs};
-
   struct sigaction action {};
   action.sa_handler = on_stop_signal;  // no SA_RESTART: waitpid returns to look at the flag
   sigemptyset(&action.sa_mask);
@@ -432,7 +460,7 @@ int run_batch(BatchSettings& s, std::vector<BatchRow>* finished) {
   struct Running {
     std::size_t row;
     Stopwatch clock;
-    fs::path log;
+    Log log;  // its stderr
   };
   std::map<pid_t, Running> running;
   std::size_t next = 0, ran = 0;
@@ -459,8 +487,9 @@ int run_batch(BatchSettings& s, std::vector<BatchRow>* finished) {
       const std::size_t i = order[next++];
       BatchRow& r = rows[i];
       for (const auto& p : r.outputs) fs::create_directories(p.parent_path());
-      Running job{i, Stopwatch(), logs / (std::to_string(i) + ".log")};
-      running.emplace(spawn(command_for(s, r, threads), job.log), job);
+      Running job{i, Stopwatch(), Log()};
+      const pid_t pid = spawn(command_for(s, r, threads), job.log);
+      running.emplace(pid, std::move(job));
     }
     draw();
     if (running.empty()) break;

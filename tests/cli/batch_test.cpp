@@ -81,7 +81,9 @@ TEST(Batch, ResumeAfterAKilledBatchRedoesNothingComplete) {
   fs::copy_file(test::data_file("tree_adtree1.xyz"), dir.path("in/later.xyz"));
   const std::string batch = "batch " + quoted(dir.path("in")) + " -o " + quoted(dir.path("out")) + " -j 2";
   // In a process group of its own, as a scheduler would start it, then killed with all it started.
-  const std::string start = "cd " + quoted(dir.root()) + " && setsid '" TREESKEL_EXE "' " + batch +
+  // Its temporary folder is the test's, to see that the kill leaves nothing there either.
+  fs::create_directories(dir.path("tmp"));
+  const std::string start = "cd " + quoted(dir.root()) + " && TMPDIR=" + quoted(dir.path("tmp")) + " setsid '" TREESKEL_EXE "' " + batch +
                             " >batch.log 2>&1 & echo $! > " + quoted(dir.path("pid"));
   ASSERT_EQ(std::system(start.c_str()), 0);
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(120);
@@ -96,6 +98,8 @@ TEST(Batch, ResumeAfterAKilledBatchRedoesNothingComplete) {
   // The tree in flight left nothing half-written.
   EXPECT_FALSE(fs::exists(dir.path("out/slow_report.json")));
   EXPECT_FALSE(fs::exists(dir.path("out/slow.glb")));
+  // The processes' logs had no names: nothing of them is left in the temporary folder.
+  EXPECT_TRUE(fs::is_empty(dir.path("tmp")));
   const auto fast_written = fs::last_write_time(dir.path("out/fast.glb"));
 
   const Result r = run(batch + " --resume");
