@@ -129,14 +129,13 @@ std::vector<std::string> model_warnings(const ModelOutcome& o) {
   return warnings;
 }
 
-std::string leafy_warning(const PointCloud& cloud) {
+std::string leafy_warning(const PointCloud& cloud, const std::string& remedy) {
   const double share = forest::estimate_leaf_share(cloud);
   if (share < forest::kLeafyShare) return {};
   std::ostringstream w;
   w << "the cloud looks leafy: about " << std::lround(100.0 * share)
     << "% of its points look like leaves or needles, which the skeleton follows as if they were twigs; "
-       "--wood-only (wood_only=True in Python) sets them aside, though it may also lose a crown's thinnest top "
-       "(docs/plots.md)";
+    << remedy << " sets them aside, though it may also lose a crown's thinnest top (docs/plots.md)";
   return w.str();
 }
 

@@ -46,7 +46,8 @@ struct ModelOutcome {
 std::vector<std::string> model_warnings(const ModelOutcome& outcome);
 
 /// Before any skeleton of a cloud not cleared of its leaves: when forest::estimate_leaf_share calls
-/// it leafy, the warning (without the input's name); empty otherwise.
-std::string leafy_warning(const PointCloud& cloud);
+/// it leafy, the warning (without the input's name), naming `remedy`, the front end's way to set
+/// the leaves aside; empty otherwise.
+std::string leafy_warning(const PointCloud& cloud, const std::string& remedy = "--wood-only");
 
 }  // namespace treeskel::cli

@@ -197,7 +197,7 @@ PySkeleton extract(const py::object& points, const Options& o) {
     std::string leafy;
     {
       py::gil_scoped_release free;
-      leafy = cli::leafy_warning(out.cloud->cloud);
+      leafy = cli::leafy_warning(out.cloud->cloud, "wood_only=True");
     }
     if (!leafy.empty()) warn_user(out.cloud.get(), leafy);
   }

@@ -4,14 +4,19 @@
 #include "model_warnings.h"
 
 #include "treeskel/error.h"
+#include "treeskel/forest/wood.h"
 #include "treeskel/modeling/coverage.h"
 #include "treeskel/modeling/measurements.h"
 #include "treeskel/modeling/radii.h"
 #include "treeskel/modeling/sweep.h"
 #include "treeskel/pipeline.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
+#include <limits>
 #include <exception>
 #include <new>
 #include <sstream>
@@ -119,6 +124,74 @@ std::string format(double value) {
   return text;
 }
 
+/// MeshLab holds coordinates as 32-bit floats: far from the origin (a georeferenced cloud) they lie
+/// on a coarse grid. From this share of the cloud's extent a step of that grid is a warning (twigs
+/// lose their shape), from the second an error (whole branches do: arbor's tree at its UTM
+/// coordinates, read by MeshLab, has ten distinct northings 0.5 apart).
+constexpr double kFloatGridWarning = 1e-4;
+constexpr double kFloatGridError = 1e-3;
+
+/// The float grid's step where the cloud `xyz` lies, against its extent: empty when fine, else the
+/// warning; throws InputError when too coarse for a skeleton.
+std::string float_grid_check(const std::vector<double>& xyz) {
+  Eigen::AlignedBox3d box;
+  for (std::size_t i = 0; i + 2 < xyz.size(); i += 3) box.extend(Eigen::Vector3d(xyz[i], xyz[i + 1], xyz[i + 2]));
+  if (box.isEmpty()) return {};
+  const double extent = box.diagonal().norm();
+  double farthest = 0.0, step = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const float far = static_cast<float>(std::max(std::abs(box.min()[a]), std::abs(box.max()[a])));
+    const double spacing = static_cast<double>(std::nextafter(far, std::numeric_limits<float>::infinity()) - far);
+    if (spacing > step) step = spacing, farthest = static_cast<double>(far);
+  }
+  if (!(extent > 0.0) || step <= kFloatGridWarning * extent) return {};
+  std::ostringstream w;
+  w << "the cloud's coordinates reach " << format(farthest) << ", where MeshLab's 32-bit floats are " << format(step)
+    << " apart (1/" << std::lround(extent / step) << " of the cloud's extent, " << format(extent)
+    << "): MeshLab rounded the points to that grid when it read them";
+  if (step > kFloatGridError * extent)
+    throw InputError(w.str() + ", too coarse for a skeleton. Move the cloud near the origin before loading it (subtract a "
+                     "point near the cloud from every coordinate, e.g. PDAL's filters.transformation or CloudCompare's "
+                     "global shift), or use the treeskel command or Python package, which read coordinates as doubles");
+  w << ", and the thinnest twigs lose their shape; for full detail move the cloud near the origin before loading it";
+  return w.str();
+}
+
+/// The points a filter makes its skeleton of, and what the log says about them.
+struct Source {
+  PointCloud cloud;             // the cloud, or its wood with `wood_only`
+  std::vector<double> leaves;   // with `wood_only`: the points set aside, in the input's frame
+  std::string wood;             // with `wood_only`: the split, one line
+  std::string leafy;            // without it: the warning of a cloud that looks leafy, or empty
+  std::string float_grid;       // the warning of a cloud far from the origin, or empty
+};
+
+/// The cloud `xyz`, or with `wood_only` the points of it that look like wood (forest::separate_wood,
+/// as `--wood-only` keeps them); without it, the leafy warning when the cloud looks leafy.
+Source source_of(const std::vector<double>& xyz, const SkeletonParams& sp) {
+  Source s;
+  s.float_grid = float_grid_check(xyz);
+  s.cloud = cloud_of(xyz);
+  if (!sp.wood_only) {
+    s.leafy = cli::leafy_warning(s.cloud, "the filter's \"Wood only\" option");
+    return s;
+  }
+  const forest::WoodLeaf w = forest::separate_wood(s.cloud);
+  const PointCloud leaves = forest::select_points(s.cloud, w.is_wood, 0);
+  s.leaves.reserve(3 * leaves.size());
+  for (const auto& p : leaves.positions) append(s.leaves, p + leaves.offset);
+  const std::size_t all = s.cloud.size();
+  s.cloud = forest::select_points(s.cloud, w.is_wood, 1);
+  std::ostringstream line;
+  line << "treeskel: wood only: " << w.wood_points << " of " << all << " points look like wood; " << w.leaf_points << " ("
+       << std::fixed << std::setprecision(1) << 100.0 * w.leaf_share() << "%) look like leaves and are set aside";
+  s.wood = line.str();
+  if (s.cloud.size() < 10)
+    throw InputError("\"Wood only\" found " + std::to_string(s.cloud.size()) + " of " + std::to_string(all) +
+                     " points that look like wood; too few for a skeleton (turn it off)");
+  return s;
+}
+
 /// Runs `work`, turning every exception into `error` and false.
 template <class Work>
 bool guarded(std::string& error, Work&& work) {
@@ -162,9 +235,14 @@ bool resolve_scales(const std::vector<double>& xyz, SkeletonParams& params, std:
 bool tree_skeleton(const std::vector<double>& xyz, const SkeletonParams& sp, const ModelParams& mp,
                    ProgressFn progress, SkeletonLayer& out, std::string& error) {
   return guarded(error, [&] {
-    const PointCloud cloud = cloud_of(xyz);
+    Source source = source_of(xyz, sp);
+    const PointCloud& cloud = source.cloud;
     const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 100);
     SkeletonLayer layer;
+    layer.wood = std::move(source.wood);
+    layer.leaves = std::move(source.leaves);
+    for (std::string* w : {&source.float_grid, &source.leafy})
+      if (!w->empty()) layer.warnings.push_back(std::move(*w));
     for (NodeId v = 0; v < skeleton.node_count(); ++v) {
       append(layer.xyz, skeleton[v].position + skeleton.offset);
       layer.radius.push_back(skeleton[v].radius);
@@ -186,7 +264,8 @@ bool tree_skeleton(const std::vector<double>& xyz, const SkeletonParams& sp, con
 bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const ModelParams& mp, ProgressFn progress,
                MeshLayer& out, std::string& error) {
   return guarded(error, [&] {
-    const PointCloud cloud = cloud_of(xyz);
+    Source source = source_of(xyz, sp);
+    const PointCloud& cloud = source.cloud;
     const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 70);
     report(progress, "sweeping the mesh", 0.7, 0, 100);
     const modeling::SweepOptions so = options_of(mp).sweep;
@@ -225,8 +304,12 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
     if (stats.thin_left_out + stats.pieces_failed > 0)
       summary << "; " << stats.thin_left_out + stats.pieces_failed << " branches left out";
     layer.summary = summary.str();
-    layer.warnings = cli::model_warnings({skeleton, mo.up, m, mp.breast_height, check, stats, coverage, so.unite_apart});
-    if (std::string leafy = cli::leafy_warning(cloud); !leafy.empty()) layer.warnings.insert(layer.warnings.begin(), std::move(leafy));
+    layer.wood = std::move(source.wood);
+    layer.leaves = std::move(source.leaves);
+    for (std::string* w : {&source.float_grid, &source.leafy})
+      if (!w->empty()) layer.warnings.push_back(std::move(*w));
+    for (auto& w : cli::model_warnings({skeleton, mo.up, m, mp.breast_height, check, stats, coverage, so.unite_apart}))
+      layer.warnings.push_back(std::move(w));
     report(progress, "done", 1.0, 0, 100);
     out = std::move(layer);
   });

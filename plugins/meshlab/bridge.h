@@ -30,6 +30,9 @@ struct SkeletonParams {
   int samples = 0;
   double tension = 0.0;
   bool prune = true, cpc = true, refine = true, junctions = true, smooth = true;
+  /// Set aside the points that look like leaves or needles first and make the skeleton of the wood
+  /// (`--wood-only`); the leaves come back in the layer's `leaves`.
+  bool wood_only = false;
 };
 
 /// The radii and mesh options.
@@ -59,6 +62,9 @@ struct SkeletonLayer {
   std::vector<double> radius;
   std::vector<int> edges;
   std::string summary;  ///< one line for MeshLab's log
+  std::string wood;     ///< with `wood_only`: how many points looked like wood and leaves, for the log
+  std::vector<double> leaves;         ///< with `wood_only`: the points set aside (x0 y0 z0 ...)
+  std::vector<std::string> warnings;  ///< for MeshLab's log, as `treeskel skeletonize` warns
 };
 
 /// A closed triangle mesh: vertex positions and vertex index triples, outward-facing.
@@ -66,6 +72,8 @@ struct MeshLayer {
   std::vector<double> xyz;
   std::vector<int> triangles;
   std::string summary;
+  std::string wood;                   ///< as in SkeletonLayer
+  std::vector<double> leaves;         ///< as in SkeletonLayer
   std::vector<std::string> warnings;  ///< for MeshLab's log, as `treeskel model` warns
 };
 

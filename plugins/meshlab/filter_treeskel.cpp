@@ -69,6 +69,11 @@ void add_skeleton_parameters(const CMeshO& cloud, RichParameterList& list) {
   list.addParam(RichBool("refine", p.refine, "Refine topology", "Split wrongly merged branches at branch points."));
   list.addParam(RichBool("junctions", p.junctions, "Place forks", "Move forks to where the branch axes meet."));
   list.addParam(RichBool("smooth", p.smooth, "Smooth", "Smooth the branches with a cardinal spline."));
+  list.addParam(RichBool("woodOnly", p.wood_only, "Wood only",
+                         "First set aside the points that look like leaves or needles (thin, flat or scattered "
+                         "rather than lying on a cylinder) and make the skeleton of the wood; the points set aside "
+                         "are added as a layer of their own. For trees in leaf: the leaves would otherwise be "
+                         "followed as twigs. It may also set aside a crown's thinnest top."));
 }
 
 void add_radius_parameters(RichParameterList& list) {
@@ -119,6 +124,7 @@ bridge::SkeletonParams skeleton_parameters(const RichParameterList& list) {
   p.refine = list.getBool("refine");
   p.junctions = list.getBool("junctions");
   p.smooth = list.getBool("smooth");
+  p.wood_only = list.getBool("woodOnly");
   return p;
 }
 
@@ -168,17 +174,13 @@ QString FilterTreeskelPlugin::filterName(FilterIDType filter) const {
 QString FilterTreeskelPlugin::filterInfo(FilterIDType filter) const {
   switch (filter) {
     case FP_TREE_SKELETON:
-      return "Extracts the curve skeleton of a tree from its raw point cloud (treeskel: octree L1-medians, "
-             "geodesic level sets, cylindrical prior constraint, radius-based topology refinement, spline "
-             "smoothing; Fu et al., IEEE Access 2020). Adds a layer of skeleton nodes joined by edges; each "
-             "node's quality is its branch radius, fitted to the points and made consistent with Leonardo's "
-             "rule. Distances are in the cloud's units; a distance of 0 means automatic.";
+      return "The curve skeleton of a tree's raw point cloud (treeskel; Fu et al., IEEE Access 2020) as a layer "
+             "of nodes joined by edges, each node's quality its fitted branch radius (Leonardo's rule). "
+             "Distances in the cloud's units; 0 means automatic.";
     case FP_TREE_MESH:
-      return "Turns a tree's raw point cloud into one closed, manifold triangle mesh of its trunk and branches "
-             "(treeskel): the skeleton, radii by the pipe model (Leonardo's rule), generalized cylinders swept "
-             "along the branches and joined at the forks. The mesh is checked (closed, manifold, one component, "
-             "no self-intersection) and added as a new layer; height, DBH and wood volume go to the log. "
-             "Distances are in the cloud's units; a distance of 0 means automatic.";
+      // Short: the dialog holds 26 parameters and must fit a screen 1024 pixels high.
+      return "A closed, manifold mesh of a tree's trunk and branches from its point cloud (treeskel); "
+             "height, DBH and volume in the log. Distances in the cloud's units, 0: automatic.";
     default: return QString();
   }
 }
@@ -212,12 +214,26 @@ bool FilterTreeskelPlugin::applyFilter(QAction* action, MeshDocument& document, 
   const bridge::SkeletonParams sp = skeleton_parameters(list);
   const bridge::ModelParams mp = model_parameters(list, mesh);
   std::string error;
+  // With "Wood only": the points set aside, as a layer of their own beside the source (the new
+  // skeleton or mesh stays the current layer), and the split in the log.
+  const QString label = source->label();
+  auto add_leaves = [&](const std::string& wood, const std::vector<double>& leaves) {
+    if (wood.empty()) return;
+    Log("%s (layer '%s leaves')", wood.c_str(), qUtf8Printable(label));
+    MeshModel* layer = document.addNewMesh("", label + " leaves", false);
+    add_vertices(layer->cm, leaves);
+    layer->UpdateBoxAndNormals();
+  };
+  auto log_warnings = [&](const std::vector<std::string>& warnings) {
+    for (const auto& w : warnings) Log(GLLogStream::WARNING, "treeskel: warning: %s", w.c_str());
+  };
   if (!mesh) {
     bridge::SkeletonLayer skeleton;
     if (!bridge::tree_skeleton(xyz, sp, mp, progress, skeleton, error)) {
-      return fail(QString("Tree Skeleton failed on layer '%1': %2").arg(source->label(), QString::fromStdString(error)));
+      return fail(QString("Tree Skeleton failed on layer '%1': %2").arg(label, QString::fromStdString(error)));
     }
-    MeshModel* layer = document.addNewMesh("", source->label() + " skeleton", true);
+    add_leaves(skeleton.wood, skeleton.leaves);
+    MeshModel* layer = document.addNewMesh("", label + " skeleton", true);
     layer->updateDataMask(MeshModel::MM_VERTQUALITY);
     auto first = add_vertices(layer->cm, skeleton.xyz);
     auto v = first;
@@ -229,20 +245,22 @@ bool FilterTreeskelPlugin::applyFilter(QAction* action, MeshDocument& document, 
     }
     layer->UpdateBoxAndNormals();
     Log("%s", skeleton.summary.c_str());
+    log_warnings(skeleton.warnings);
     return true;
   }
   bridge::MeshLayer result;
   if (!bridge::tree_mesh(xyz, sp, mp, progress, result, error)) {
-    return fail(QString("Tree Mesh failed on layer '%1': %2").arg(source->label(), QString::fromStdString(error)));
+    return fail(QString("Tree Mesh failed on layer '%1': %2").arg(label, QString::fromStdString(error)));
   }
-  MeshModel* layer = document.addNewMesh("", source->label() + " tree mesh", true);
+  add_leaves(result.wood, result.leaves);
+  MeshModel* layer = document.addNewMesh("", label + " tree mesh", true);
   auto first = add_vertices(layer->cm, result.xyz);
   auto face = vcg::tri::Allocator<CMeshO>::AddFaces(layer->cm, result.triangles.size() / 3);
   for (std::size_t t = 0; t + 2 < result.triangles.size(); t += 3, ++face)
     for (int k = 0; k < 3; ++k) face->V(k) = &*(first + result.triangles[t + k]);
   layer->UpdateBoxAndNormals();
   Log("%s", result.summary.c_str());
-  for (const auto& w : result.warnings) Log(GLLogStream::WARNING, "treeskel: warning: %s", w.c_str());
+  log_warnings(result.warnings);
   return true;
 }
 

@@ -28,6 +28,13 @@ for attempt in 1 2 3; do
     if [ -n "$dialog" ]; then
       sleep 1
       eval "$(xdotool getwindowgeometry --shell "$dialog")"   # X Y WIDTH HEIGHT
+      # The whole dialog on the screen (MeshLab's has no scroll bar: a row past the bottom edge
+      # cannot be reached, nor can the buttons below it).
+      read -r screen_width screen_height < <(xdotool getdisplaygeometry)
+      if [ $((Y + HEIGHT)) -gt "$screen_height" ]; then
+        echo "gui-open-filter: the dialog of '$filter' is $HEIGHT pixels high, taller than the screen's $screen_height" >&2
+        exit 1
+      fi
       # Close and Apply are the last row of buttons, left and right half, 20 pixels above the bottom.
       echo "$((X + WIDTH * 3 / 4)) $((Y + HEIGHT - 20)) $((X + WIDTH / 4)) $((Y + HEIGHT - 20))"
       exit 0

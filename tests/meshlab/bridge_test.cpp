@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <array>
 #include <map>
+#include <set>
 #include <regex>
 #include <sstream>
 
@@ -22,6 +24,16 @@ std::vector<double> flat_cloud(const std::string& name) {
   std::vector<double> xyz;
   for (const auto& p : cloud.positions)
     for (int a = 0; a < 3; ++a) xyz.push_back(p[a] + cloud.offset[a]);
+  return xyz;
+}
+
+/// A bundled cloud moved near the origin (its minimum corner at 0), as a georeferenced cloud must be
+/// before MeshLab reads it into 32-bit floats.
+std::vector<double> near_origin(const std::string& name) {
+  const PointCloud cloud = io::read_point_cloud(test::data_file(name));
+  std::vector<double> xyz;
+  for (const auto& p : cloud.positions)
+    for (int a = 0; a < 3; ++a) xyz.push_back(static_cast<double>(static_cast<float>(p[a])));
   return xyz;
 }
 
@@ -179,9 +191,61 @@ TEST(MeshlabBridge, MeshLayerCarriesTheCommandsWarnings) {
   EXPECT_TRUE(plain.warnings.empty()) << plain.warnings.front();
   // A broadleaf in leaf: said to look leafy, first.
   MeshLayer leafy;
-  ASSERT_TRUE(tree_mesh(flat_cloud("tree_arbor_leafy.xyz"), default_skeleton_params(), default_model_params(), nullptr, leafy, error));
+  ASSERT_TRUE(tree_mesh(near_origin("tree_arbor_leafy.xyz"), default_skeleton_params(), default_model_params(), nullptr, leafy, error))
+      << error;
   ASSERT_FALSE(leafy.warnings.empty());
   EXPECT_NE(leafy.warnings.front().find("looks leafy"), std::string::npos) << leafy.warnings.front();
+  // Its remedy is the filter's own option, not the command line's.
+  EXPECT_NE(leafy.warnings.front().find("\"Wood only\""), std::string::npos) << leafy.warnings.front();
+  EXPECT_EQ(leafy.warnings.front().find("--wood-only"), std::string::npos) << leafy.warnings.front();
+}
+
+/// The number after `before` in `text`, or -1.
+long number_after(const std::string& text, const std::string& before) {
+  const auto at = text.find(before);
+  return at == std::string::npos ? -1 : std::stol(text.substr(at + before.size()));
+}
+
+/// "Wood only" makes the skeleton and the mesh of the points that look like wood and hands back the
+/// others, in the input's frame, for a layer of their own; the log line counts both. The skeleton
+/// filter warns of a leafy cloud as the mesh filter does.
+TEST(MeshlabBridge, WoodOnlySetsTheLeavesAsideForALayerOfTheirOwn) {
+  const std::vector<double> xyz = near_origin("tree_arbor_leafy.xyz");
+  const std::size_t all = xyz.size() / 3;
+  std::string error;
+  SkeletonLayer leafy;
+  ASSERT_TRUE(tree_skeleton(xyz, default_skeleton_params(), default_model_params(), nullptr, leafy, error)) << error;
+  ASSERT_EQ(leafy.warnings.size(), 1u);
+  EXPECT_NE(leafy.warnings.front().find("looks leafy"), std::string::npos) << leafy.warnings.front();
+  EXPECT_TRUE(leafy.wood.empty() && leafy.leaves.empty());
+
+  SkeletonParams wood_only = default_skeleton_params();
+  wood_only.wood_only = true;
+  SkeletonLayer skeleton;
+  ASSERT_TRUE(tree_skeleton(xyz, wood_only, default_model_params(), nullptr, skeleton, error)) << error;
+  EXPECT_TRUE(skeleton.warnings.empty()) << skeleton.warnings.front();
+  EXPECT_TRUE(is_tree(skeleton.radius.size(), skeleton.edges));
+  ASSERT_EQ(skeleton.leaves.size() % 3, 0u);
+  const std::size_t leaves = skeleton.leaves.size() / 3;
+  EXPECT_GT(leaves, all / 10);  // a broadleaf in leaf (arbor's labels: 28% leaves)
+  EXPECT_LT(leaves, all / 2);
+  EXPECT_EQ(number_after(skeleton.wood, "wood only: "), static_cast<long>(all - leaves)) << skeleton.wood;
+  EXPECT_EQ(number_after(skeleton.wood, "points look like wood; "), static_cast<long>(leaves)) << skeleton.wood;
+  // Every point set aside is one of the cloud's, at its coordinates.
+  std::set<std::array<double, 3>> input;
+  for (std::size_t i = 0; i < xyz.size(); i += 3) input.insert({xyz[i], xyz[i + 1], xyz[i + 2]});
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < skeleton.leaves.size(); i += 3)
+    found += input.count({skeleton.leaves[i], skeleton.leaves[i + 1], skeleton.leaves[i + 2]});
+  EXPECT_EQ(found, leaves);
+
+  MeshLayer mesh;
+  ASSERT_TRUE(tree_mesh(xyz, wood_only, default_model_params(), nullptr, mesh, error)) << error;
+  EXPECT_TRUE(closed_and_oriented(mesh.triangles));
+  EXPECT_EQ(mesh.wood, skeleton.wood);
+  EXPECT_EQ(mesh.leaves, skeleton.leaves);
+  EXPECT_EQ(number_after(mesh.summary, "treeskel: "), static_cast<long>(all - leaves)) << mesh.summary;
+  for (const auto& w : mesh.warnings) EXPECT_EQ(w.find("looks leafy"), std::string::npos) << w;
 }
 
 TEST(MeshlabBridge, CloudsTheMethodCannotUseAreErrorsNotExceptions) {
@@ -203,6 +267,35 @@ TEST(MeshlabBridge, CloudsTheMethodCannotUseAreErrorsNotExceptions) {
   EXPECT_TRUE(skeleton.xyz.empty());  // nothing half-filled
 }
 
+/// MeshLab holds a cloud as 32-bit floats: at georeferenced coordinates they lie on a grid too coarse
+/// for a skeleton (arbor's tree at its UTM northing: 0.5 apart), which is an error that says what to
+/// do, not a model of a tree cut in slabs; a grid of a few thousandths of the extent is a warning.
+TEST(MeshlabBridge, CloudsFarFromTheOriginAreRefusedOrWarnedAbout) {
+  std::vector<double> utm = flat_cloud("tree_arbor_leafy.xyz");
+  for (double& c : utm) c = static_cast<double>(static_cast<float>(c));  // as MeshLab holds them
+  SkeletonLayer skeleton;
+  MeshLayer mesh;
+  std::string error;
+  EXPECT_FALSE(tree_skeleton(utm, default_skeleton_params(), default_model_params(), nullptr, skeleton, error));
+  EXPECT_NE(error.find("32-bit floats are 0.5 apart"), std::string::npos) << error;
+  EXPECT_NE(error.find("near the origin"), std::string::npos) << error;
+  error.clear();
+  EXPECT_FALSE(tree_mesh(utm, default_skeleton_params(), default_model_params(), nullptr, mesh, error));
+  EXPECT_NE(error.find("32-bit floats"), std::string::npos) << error;
+  EXPECT_TRUE(mesh.triangles.empty());
+
+  // rTwig's tree (about 5 across) moved to x = 10,000: floats 0.00098 apart, a warning only.
+  std::vector<double> shifted = flat_cloud("tree_rtwig.txt");
+  for (std::size_t i = 0; i < shifted.size(); i += 3) shifted[i] = static_cast<double>(static_cast<float>(shifted[i] + 10000.0));
+  ASSERT_TRUE(tree_skeleton(shifted, default_skeleton_params(), default_model_params(), nullptr, skeleton, error)) << error;
+  ASSERT_EQ(skeleton.warnings.size(), 1u);
+  EXPECT_NE(skeleton.warnings.front().find("32-bit floats are 0.0009766 apart"), std::string::npos) << skeleton.warnings.front();
+  // Where it was, nothing to say.
+  ASSERT_TRUE(tree_skeleton(flat_cloud("tree_rtwig.txt"), default_skeleton_params(), default_model_params(), nullptr,
+                            skeleton, error));
+  EXPECT_TRUE(skeleton.warnings.empty()) << skeleton.warnings.front();
+}
+
 /// The bundled scripts hold every parameter the filters declare, at the defaults (0 for automatic scales).
 TEST(MeshlabBridge, BundledScriptsHoldTheDefaults) {
   const SkeletonParams s = default_skeleton_params();
@@ -217,9 +310,9 @@ TEST(MeshlabBridge, BundledScriptsHoldTheDefaults) {
   const std::map<std::string, bool> flags = {{"bridgeGaps", true}, {"prune", s.prune},   {"cpc", s.cpc},
                                              {"refine", s.refine}, {"junctions", s.junctions},
                                              {"smooth", s.smooth}, {"repair", m.repair}, {"complete", m.complete},
-                                             {"keepDefective", m.allow_defects}};
-  for (const auto& [script, count] : {std::pair<std::string, std::size_t>{"tree_skeleton.mlx", 19},
-                                      std::pair<std::string, std::size_t>{"tree_mesh.mlx", 25}}) {
+                                             {"keepDefective", m.allow_defects}, {"woodOnly", s.wood_only}};
+  for (const auto& [script, count] : {std::pair<std::string, std::size_t>{"tree_skeleton.mlx", 20},
+                                      std::pair<std::string, std::size_t>{"tree_mesh.mlx", 26}}) {
     std::ifstream in(std::string(TREESKEL_MESHLAB_SCRIPTS) + "/" + script);
     ASSERT_TRUE(in) << script;
     std::stringstream text;

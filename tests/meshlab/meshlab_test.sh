@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The MeshLab plugin in the real MeshLab (Debian's meshlabserver, under Xvfb), one case per ctest test.
 # Usage: meshlab_test.sh CASE PREFIX CHECKER DATA_DIR SCRIPTS_DIR WORK_DIR
-#   CASE: load | skeleton-ply | skeleton-xyz | mesh-ply | mesh-xyz | mesh-complete | bad-input | gui-bad-input
+#   CASE: load | skeleton-ply | skeleton-xyz | mesh-ply | mesh-xyz | mesh-complete | mesh-wood
+#         | far-from-origin | bad-input | gui-bad-input
 #   PREFIX: the private MeshLab that plugins/meshlab/install.sh PREFIX made
 set -euo pipefail
 case_name=$1 prefix=$2 checker=$3 data=$4 scripts=$5 work=$6/$1
@@ -22,6 +23,14 @@ to_ply() {
     [ -z "$rows" ] || printf '%s\n' "$rows"; } > "$1"
 }
 three_points() { printf '0 0 0\n1 0 0\n0 1 1\n' | to_ply three.ply; }
+
+# arbor's georeferenced tree (UTM metres) as cloud.ply: "utm" at its coordinates, "near" moved near
+# the origin (a point near it subtracted), as a user must before MeshLab reads it into floats.
+near_origin() {
+  local shift="0 0"; [ "$1" = utm ] || shift="269600 5168550"
+  grep -v '^#' "$data/tree_arbor_leafy.xyz" | awk -v s="$shift" 'BEGIN {split(s, o, " ")} NF >= 3 {printf "%.4f %.4f %s\n", $1 - o[1], $2 - o[2], $3}' | to_ply cloud.ply
+  echo cloud.ply
+}
 
 # The bundled rTwig cloud as an ASCII PLY (MeshLab's own reader), the AdTree cloud as it is (.xyz).
 input_for() {
@@ -45,7 +54,7 @@ case $case_name in
     rows() { awk -v f="$1" 'index($0, f) {on = 1; next} on && /\\section/ {exit} on && /<TR>/ {n++} END {print n + 0}' dump.txt; }
     skeleton_rows=$(rows "Tree Skeleton (CPC)") mesh_rows=$(rows "Tree Mesh from Point Cloud")
     echo "Tree Skeleton (CPC): $skeleton_rows parameters; Tree Mesh from Point Cloud: $mesh_rows parameters"
-    [ "$skeleton_rows" -eq 19 ] && [ "$mesh_rows" -eq 25 ] || { echo "unexpected parameter counts" >&2; exit 1; }
+    [ "$skeleton_rows" -eq 20 ] && [ "$mesh_rows" -eq 26 ] || { echo "unexpected parameter counts" >&2; exit 1; }
     grep -qF "Level set band width" dump.txt && grep -qF "Thinnest branch kept" dump.txt
     ;;
   skeleton-ply|skeleton-xyz)
@@ -76,6 +85,38 @@ case $case_name in
     echo "nodes: $plain by default, $grown grown"
     [ -n "$plain" ] && [ -n "$grown" ] && [ "$grown" -gt "$plain" ] || { echo "no branch grown" >&2; exit 1; }
     "$checker" mesh tree.ply "$cloud"
+    ;;
+  mesh-wood)
+    # arbor's broadleaf in leaf (the bundled quarter, as a PLY moved near the origin, see
+    # far-from-origin): by default the log says it looks leafy and names the "Wood only" option;
+    # with it set in a copy of the bundled script, the mesh is made of the wood and the points set
+    # aside are a layer of their own (layer 1, between the cloud and the mesh), as many as the log says.
+    near_origin arbor > /dev/null
+    expect_ok -i cloud.ply -o plain.ply -s "$scripts/tree_mesh.mlx"
+    grep -F "looks leafy" server.log | grep -qF '"Wood only"' || { cat server.log >&2; echo "no leafy warning" >&2; exit 1; }
+    sed 's/name="woodOnly" value="false"/name="woodOnly" value="true"/' "$scripts/tree_mesh.mlx" > wood.mlx
+    grep -qF 'name="woodOnly" value="true"' wood.mlx
+    expect_ok -i cloud.ply -o tree.ply -o leaves.ply -l 1 -m sa -s wood.mlx
+    line=$(grep -F -m 1 "treeskel: wood only:" server.log) || { cat server.log >&2; echo "no wood line in the log" >&2; exit 1; }
+    echo "$line"
+    ! grep -qF "looks leafy" server.log || { echo "warned of leaves with Wood only" >&2; exit 1; }
+    said=$(printf '%s' "$line" | sed -n 's/.*points look like wood; \([0-9]*\) .*/\1/p')
+    written=$(sed -n 's/^element vertex //p' leaves.ply)
+    echo "leaves: $said in the log, $written in the layer"
+    [ -n "$said" ] && [ "$said" -gt 0 ] && [ "$said" = "$written" ] || { echo "the leaves layer is not what the log says" >&2; exit 1; }
+    "$checker" mesh tree.ply cloud.ply
+    ;;
+  far-from-origin)
+    # At its UTM coordinates MeshLab holds arbor's tree on a grid of floats 0.5 apart: both filters
+    # fail with a message that says so and what to do, and write nothing.
+    near_origin utm > /dev/null
+    for script in tree_skeleton tree_mesh; do
+      rc=0; run -i cloud.ply -o out.obj -s "$scripts/$script.mlx" || rc=$?
+      [ "$rc" -eq 255 ] || { cat server.log >&2; echo "$script: exit $rc, expected 255" >&2; exit 1; }
+      grep -F "32-bit floats are 0.5 apart" server.log | grep -F "near the origin" | head -n 1 ||
+        { cat server.log >&2; echo "$script: no message about the coordinates" >&2; exit 1; }
+      [ ! -e out.obj ] || { echo "$script wrote an output" >&2; exit 1; }
+    done
     ;;
   bad-input)
     to_ply empty.ply < /dev/null
