@@ -98,35 +98,53 @@ bool only_apart(const modeling::MeshCheck& check) {
   return !check.ok() && as_one.ok();
 }
 
-std::vector<std::string> model_warnings(const ModelOutcome& o) {
-  std::vector<std::string> warnings;
-  auto warn = [&](const auto&... parts) {
+namespace {
+
+/// Collects sentences, each written from its parts.
+class Sentences {
+ public:
+  template <class... Parts>
+  void operator()(const Parts&... parts) {
     std::ostringstream w;
     (w << ... << parts);
-    warnings.push_back(w.str());
-  };
-  if (only_apart(o.check))
-    warn("the mesh has ", o.check.components, " closed components: ", o.check.components - 1,
+    list.push_back(w.str());
+  }
+  std::vector<std::string> list;
+};
+
+}  // namespace
+
+std::vector<std::string> mesh_warnings(const modeling::MeshCheck& check, const modeling::SweepStats& sweep,
+                                       const modeling::SkeletonCoverage& coverage, bool unite_apart) {
+  Sentences warn;
+  if (only_apart(check))
+    warn("the mesh has ", check.components, " closed components: ", check.components - 1,
          " swept-apart limb(s) do not touch the rest; written as they are");
-  if (o.sweep.pieces_failed > 0)
-    warn(o.sweep.pieces_failed, " limb(s)",
-         o.unite_apart ? " could not be united with the tree without the mesh crossing itself (or past the union's budget)"
-                       : " found no room at their forks (--no-unite)",
+  if (sweep.pieces_failed > 0)
+    warn(sweep.pieces_failed, " limb(s)",
+         unite_apart ? " could not be united with the tree without the mesh crossing itself (or past the union's budget)"
+                     : " found no room at their forks (--no-unite)",
          " and are left out");
-  if (o.sweep.float_crossings > 0)
+  if (sweep.float_crossings > 0)
     warn("rounded to 32-bit floats in the input's frame (as PLY, STL and MeshLab hold it), the mesh crosses itself at ",
-         o.sweep.float_crossings, " face pairs (OBJ keeps full precision; --local writes local coordinates)");
-  if (o.coverage.share() < kCoverageWarning)
-    warn("the mesh holds only ", std::lround(100.0 * o.coverage.share()), "% of the skeleton's length (",
-         o.coverage.inside_length, " of ", o.coverage.length, ")");
-  for (auto& w : sanity_warnings(o.skeleton, o.up, o.measurements, o.breast_height)) warnings.push_back(std::move(w));
+         sweep.float_crossings, " face pairs (OBJ keeps full precision; --local writes local coordinates)");
+  if (coverage.share() < kCoverageWarning)
+    warn("the mesh holds only ", std::lround(100.0 * coverage.share()), "% of the skeleton's length (",
+         coverage.inside_length, " of ", coverage.length, ")");
+  return std::move(warn.list);
+}
+
+std::vector<std::string> model_warnings(const ModelOutcome& o) {
+  Sentences warn;
+  warn.list = mesh_warnings(o.check, o.sweep, o.coverage, o.unite_apart);
+  for (auto& w : sanity_warnings(o.skeleton, o.up, o.measurements, o.breast_height)) warn.list.push_back(std::move(w));
   const double volume = o.measurements.volume;
   if (volume > 0.0 && o.check.volume < kVolumeWarning * volume)
     warn("the mesh's volume is ", std::lround(100.0 * o.check.volume / volume),
          "% of the wood volume reported (the frustums of the fitted radii, ", volume, "; the mesh ", o.check.volume,
          "): frustums of branches that overlap count twice, and ", o.sweep.joins_thinned, " join(s) and ",
          o.sweep.repaired_shrunk, " branch(es) with what they carry were thinned to keep the mesh from crossing itself");
-  return warnings;
+  return std::move(warn.list);
 }
 
 std::string leafy_warning(const PointCloud& cloud, const std::string& remedy) {

@@ -38,6 +38,11 @@ struct ModelOutcome {
   bool unite_apart;
 };
 
+/// What the user of a mesh alone should be told (model_warnings' first sentences): limbs apart or
+/// left out, a mesh that crosses itself once in floats, less than 95% of the skeleton in the mesh.
+std::vector<std::string> mesh_warnings(const modeling::MeshCheck& check, const modeling::SweepStats& sweep,
+                                       const modeling::SkeletonCoverage& coverage, bool unite_apart);
+
 /// What the user of a model should be told, one sentence each (without the input's name): limbs
 /// apart or left out, a mesh that crosses itself once in floats, less than 95% of the skeleton or
 /// 70% of the wood volume in the mesh, an up axis or units that look wrong, a DBH no tree has, a

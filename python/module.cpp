@@ -245,16 +245,31 @@ modeling::TreeMeasurements measure(const PySkeleton& s, const Options& o) {
 
 py::object measurements(const PySkeleton& s, const Options& o) { return json_to_python(cli::measurements_json(measure(s, o))); }
 
+/// What the front ends' warnings need of a mesh: its check and how much of the skeleton it holds.
+struct MeshFacts {
+  modeling::MeshCheck check;
+  modeling::SkeletonCoverage coverage;
+};
+
+MeshFacts facts_of(const PySkeleton& s, const Mesh& mesh) {
+  py::gil_scoped_release free;
+  return {cli::check_swept(mesh.mesh, mesh.stats, mesh.options.repair), modeling::skeleton_coverage(s.skeleton, mesh.mesh)};
+}
+
+/// What `treeskel model` warns about a mesh alone (limbs apart or left out, crossings in floats,
+/// little of the skeleton inside), as Python UserWarnings (one each): `tree_mesh` has no measurements.
+void warn_about_mesh(const PySkeleton& s, const Mesh& mesh) {
+  const MeshFacts f = facts_of(s, mesh);
+  for (const auto& w : cli::mesh_warnings(f.check, mesh.stats, f.coverage, mesh.options.unite_apart))
+    warn_user(s.cloud.get(), w);
+}
+
 /// What `treeskel model` warns about for this model, as Python UserWarnings (one each).
 void warn_about_model(const PySkeleton& s, const Mesh& mesh, const modeling::TreeMeasurements& m, const Options& o) {
-  std::vector<std::string> warnings;
-  {
-    py::gil_scoped_release free;
-    const modeling::MeshCheck check = cli::check_swept(mesh.mesh, mesh.stats, mesh.options.repair);
-    const modeling::SkeletonCoverage coverage = modeling::skeleton_coverage(s.skeleton, mesh.mesh);
-    warnings = cli::model_warnings({s.skeleton, s.up, m, o.model.breast_height, check, mesh.stats, coverage, mesh.options.unite_apart});
-  }
-  for (const auto& w : warnings) warn_user(s.cloud.get(), w);
+  const MeshFacts f = facts_of(s, mesh);
+  for (const auto& w : cli::model_warnings({s.skeleton, s.up, m, o.model.breast_height, f.check, mesh.stats, f.coverage,
+                                            mesh.options.unite_apart}))
+    warn_user(s.cloud.get(), w);
 }
 
 }  // namespace
@@ -439,10 +454,13 @@ PYBIND11_MODULE(_treeskel, m) {
 
   m.def("tree_mesh", [](const std::shared_ptr<PySkeleton>& s, const py::kwargs& kwargs) {
     const Options o = parse_options(kwargs, false, true, "tree_mesh");
-    return sweep(s, o);
+    Mesh mesh = sweep(s, o);
+    warn_about_mesh(*s, mesh);
+    return mesh;
   }, py::arg("skeleton"),
         "One closed mesh of a skeleton with radii (fit_radii first); keyword arguments: segments, "
-        "min_segments, min_radius, no_unite, no_repair");
+        "min_segments, min_radius, no_unite, no_repair. What `treeskel model` warns about the mesh (limbs "
+        "apart or left out, little of the skeleton inside it) comes as UserWarnings");
 
   m.def("measure", [](const std::shared_ptr<PySkeleton>& s, const py::kwargs& kwargs) {
     const Options o = parse_options(kwargs, false, true, "measure");

@@ -66,6 +66,21 @@ def test_model_warns_as_the_command_does(data):
         treeskel.model(points * 0.2)
 
 
+def test_tree_mesh_warns_of_limbs_left_out(data):
+    skeleton = treeskel.fit_radii(treeskel.extract_skeleton(str(data / "tree_adtree1.xyz")))
+    # Limbs not united (no_unite) are left out, and with them much of the skeleton: said, as the
+    # command says it, though tree_mesh measures nothing.
+    with pytest.warns(UserWarning) as said:
+        treeskel.tree_mesh(skeleton, no_unite=True)
+    texts = [str(w.message) for w in said]
+    assert any("found no room at their forks" in t for t in texts), texts
+    assert any("of the skeleton's length" in t for t in texts), texts
+    # United, they are in the mesh: nothing to say.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        treeskel.tree_mesh(skeleton)
+
+
 def test_complete_equals_the_commands(exe, data, tmp_path):
     cloud = str(data / "tree_adtree1.xyz")
     skeleton, mesh, _ = treeskel.model(cloud, complete=True)

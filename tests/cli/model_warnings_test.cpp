@@ -118,6 +118,19 @@ TEST(ModelWarnings, EachFaultSaysItsOwnSentence) {
   }
 }
 
+TEST(MeshWarnings, AreTheModelsAboutTheMeshAlone) {
+  Model m(test::straight(1.0, 0.02));  // shorter than breast height: a model's warning, not the mesh's
+  EXPECT_TRUE(mesh_warnings(m.check, m.sweep, m.coverage, m.unite_apart).empty());
+  m.coverage.inside_length = 0.5 * m.coverage.length;
+  m.sweep.pieces_failed = 1;
+  const auto mesh = mesh_warnings(m.check, m.sweep, m.coverage, m.unite_apart);
+  ASSERT_EQ(mesh.size(), 2u);
+  const auto model = m.warnings();
+  ASSERT_EQ(model.size(), 3u);
+  EXPECT_EQ(std::vector<std::string>(model.begin(), model.begin() + 2), mesh);  // first, in the same words
+  EXPECT_NE(model.back().find("shorter than breast height"), std::string::npos) << model.back();
+}
+
 TEST(ModelWarnings, SizesAndAxesNoTreeHas) {
   {
     Model m(test::straight(8.0, 0.15));
