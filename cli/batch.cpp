@@ -100,7 +100,6 @@ std::vector<std::string> command_for(const BatchSettings& s, const BatchRow& row
   return args;
 }
 
-/// Starts `args` as a child process of this executable, its output to nowhere, its errors to `log`.
 /// A tree's process's stderr: a file with no name in the temporary folder, so that nothing is left
 /// behind however the batch ends (a scheduler's SIGKILL too); closed with the object.
 class Log {
@@ -140,6 +139,7 @@ class Log {
   int fd_ = -1;
 };
 
+/// Starts `args` as a child process of this executable, its output to nowhere, its errors to `log`.
 pid_t spawn(const std::vector<std::string>& args, const Log& log) {
   static const fs::path self = fs::read_symlink("/proc/self/exe");
   posix_spawn_file_actions_t actions;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 namespace treeskel::cli {
@@ -155,6 +156,15 @@ std::string leafy_warning(const PointCloud& cloud, const std::string& remedy) {
     << "% of its points look like leaves or needles, which the skeleton follows as if they were twigs; "
     << remedy << " sets them aside, though it may also lose a crown's thinnest top (docs/plots.md)";
   return w.str();
+}
+
+std::string wood_split(std::size_t wood_points, std::size_t leaf_points) {
+  const std::size_t all = wood_points + leaf_points;
+  std::ostringstream line;
+  line << wood_points << " of " << all << " points look like wood; " << leaf_points << " (" << std::fixed
+       << std::setprecision(1) << (all ? 100.0 * static_cast<double>(leaf_points) / static_cast<double>(all) : 0.0)
+       << "%) look like leaves and are set aside";
+  return line.str();
 }
 
 }  // namespace treeskel::cli

@@ -55,4 +55,11 @@ std::vector<std::string> model_warnings(const ModelOutcome& outcome);
 /// the leaves aside; empty otherwise.
 std::string leafy_warning(const PointCloud& cloud, const std::string& remedy = "--wood-only");
 
+/// Fewest points that look like wood a skeleton is made of; fewer is an error that names the option.
+inline constexpr std::size_t kFewestWoodPoints = 10;
+
+/// How the wood rule split a cloud, for the log or stderr after the option's name: "W of N points
+/// look like wood; L (x%) look like leaves and are set aside".
+std::string wood_split(std::size_t wood_points, std::size_t leaf_points);
+
 }  // namespace treeskel::cli

@@ -7,7 +7,6 @@
 #include "treeskel/io/atomic_file.h"
 #include "treeskel/io/skeleton_io.h"
 
-#include <iomanip>
 #include <iostream>
 #include <sstream>
 
@@ -129,13 +128,8 @@ WoodSplit keep_wood(const SkeletonSettings& s, PointCloud& cloud, const std::str
   split.leaves = forest::select_points(cloud, w.is_wood, 0);
   const std::size_t all = cloud.size();
   cloud = forest::select_points(cloud, w.is_wood, 1);
-  if (!quiet) {
-    std::ostringstream line;
-    line << "--wood-only: " << w.wood_points << " of " << all << " points look like wood, " << w.leaf_points << " ("
-         << std::fixed << std::setprecision(1) << 100.0 * w.leaf_share() << "%) like leaves and are set aside";
-    std::cerr << line.str() << '\n';
-  }
-  if (cloud.size() < 10)
+  if (!quiet) std::cerr << "--wood-only: " << wood_split(w.wood_points, w.leaf_points) << '\n';
+  if (cloud.size() < kFewestWoodPoints)
     throw InputError(input + ": --wood-only found " + std::to_string(cloud.size()) + " of " + std::to_string(all) +
                      " points that look like wood; too few for a skeleton (leave --wood-only off)");
   return split;

@@ -15,9 +15,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <iomanip>
-#include <limits>
 #include <exception>
+#include <limits>
 #include <new>
 #include <sstream>
 
@@ -182,11 +181,8 @@ Source source_of(const std::vector<double>& xyz, const SkeletonParams& sp) {
   for (const auto& p : leaves.positions) append(s.leaves, p + leaves.offset);
   const std::size_t all = s.cloud.size();
   s.cloud = forest::select_points(s.cloud, w.is_wood, 1);
-  std::ostringstream line;
-  line << "treeskel: wood only: " << w.wood_points << " of " << all << " points look like wood; " << w.leaf_points << " ("
-       << std::fixed << std::setprecision(1) << 100.0 * w.leaf_share() << "%) look like leaves and are set aside";
-  s.wood = line.str();
-  if (s.cloud.size() < 10)
+  s.wood = "treeskel: wood only: " + cli::wood_split(w.wood_points, w.leaf_points);
+  if (s.cloud.size() < cli::kFewestWoodPoints)
     throw InputError("\"Wood only\" found " + std::to_string(s.cloud.size()) + " of " + std::to_string(all) +
                      " points that look like wood; too few for a skeleton (turn it off)");
   return s;
