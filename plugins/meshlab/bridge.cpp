@@ -188,6 +188,14 @@ Source source_of(const std::vector<double>& xyz, const SkeletonParams& sp) {
   return s;
 }
 
+/// Hands what `source` has for the log and the leaves layer to `notes`, its warnings first.
+void take_notes(Source& source, LayerNotes& notes) {
+  notes.wood = std::move(source.wood);
+  notes.leaves = std::move(source.leaves);
+  for (std::string* w : {&source.float_grid, &source.leafy})
+    if (!w->empty()) notes.warnings.push_back(std::move(*w));
+}
+
 /// Runs `work`, turning every exception into `error` and false.
 template <class Work>
 bool guarded(std::string& error, Work&& work) {
@@ -235,10 +243,7 @@ bool tree_skeleton(const std::vector<double>& xyz, const SkeletonParams& sp, con
     const PointCloud& cloud = source.cloud;
     const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 100);
     SkeletonLayer layer;
-    layer.wood = std::move(source.wood);
-    layer.leaves = std::move(source.leaves);
-    for (std::string* w : {&source.float_grid, &source.leafy})
-      if (!w->empty()) layer.warnings.push_back(std::move(*w));
+    take_notes(source, layer);
     for (NodeId v = 0; v < skeleton.node_count(); ++v) {
       append(layer.xyz, skeleton[v].position + skeleton.offset);
       layer.radius.push_back(skeleton[v].radius);
@@ -300,10 +305,7 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
     if (stats.thin_left_out + stats.pieces_failed > 0)
       summary << "; " << stats.thin_left_out + stats.pieces_failed << " branches left out";
     layer.summary = summary.str();
-    layer.wood = std::move(source.wood);
-    layer.leaves = std::move(source.leaves);
-    for (std::string* w : {&source.float_grid, &source.leafy})
-      if (!w->empty()) layer.warnings.push_back(std::move(*w));
+    take_notes(source, layer);
     for (auto& w : cli::model_warnings({skeleton, mo.up, m, mp.breast_height, check, stats, coverage, so.unite_apart}))
       layer.warnings.push_back(std::move(w));
     report(progress, "done", 1.0, 0, 100);

@@ -56,25 +56,25 @@ ModelParams default_model_params();
 /// the cloud `xyz` (x0 y0 z0 x1 ...). Returns false with `error` set when the cloud cannot be used.
 bool resolve_scales(const std::vector<double>& xyz, SkeletonParams& params, std::string& error);
 
-/// A skeleton: node positions (x0 y0 z0 ...), one radius per node and edges as node index pairs.
-struct SkeletonLayer {
-  std::vector<double> xyz;
-  std::vector<double> radius;
-  std::vector<int> edges;
+/// What either filter hands back beside its layer: for MeshLab's log and a layer of leaves.
+struct LayerNotes {
   std::string summary;  ///< one line for MeshLab's log
   std::string wood;     ///< with `wood_only`: how many points looked like wood and leaves, for the log
   std::vector<double> leaves;         ///< with `wood_only`: the points set aside (x0 y0 z0 ...)
-  std::vector<std::string> warnings;  ///< for MeshLab's log, as `treeskel skeletonize` warns
+  std::vector<std::string> warnings;  ///< for MeshLab's log, as `treeskel skeletonize` and `model` warn
+};
+
+/// A skeleton: node positions (x0 y0 z0 ...), one radius per node and edges as node index pairs.
+struct SkeletonLayer : LayerNotes {
+  std::vector<double> xyz;
+  std::vector<double> radius;
+  std::vector<int> edges;
 };
 
 /// A closed triangle mesh: vertex positions and vertex index triples, outward-facing.
-struct MeshLayer {
+struct MeshLayer : LayerNotes {
   std::vector<double> xyz;
   std::vector<int> triangles;
-  std::string summary;
-  std::string wood;                   ///< as in SkeletonLayer
-  std::vector<double> leaves;         ///< as in SkeletonLayer
-  std::vector<std::string> warnings;  ///< for MeshLab's log, as `treeskel model` warns
 };
 
 /// Skeleton of the cloud `xyz`, with radii fitted by the pipe model. Returns false with `error` set

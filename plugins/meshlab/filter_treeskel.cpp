@@ -217,22 +217,23 @@ bool FilterTreeskelPlugin::applyFilter(QAction* action, MeshDocument& document, 
   // With "Wood only": the points set aside, as a layer of their own beside the source (the new
   // skeleton or mesh stays the current layer), and the split in the log.
   const QString label = source->label();
-  auto add_leaves = [&](const std::string& wood, const std::vector<double>& leaves) {
-    if (wood.empty()) return;
-    Log("%s (layer '%s leaves')", wood.c_str(), qUtf8Printable(label));
+  auto add_leaves = [&](const bridge::LayerNotes& notes) {
+    if (notes.wood.empty()) return;
+    Log("%s (layer '%s leaves')", notes.wood.c_str(), qUtf8Printable(label));
     MeshModel* layer = document.addNewMesh("", label + " leaves", false);
-    add_vertices(layer->cm, leaves);
+    add_vertices(layer->cm, notes.leaves);
     layer->UpdateBoxAndNormals();
   };
-  auto log_warnings = [&](const std::vector<std::string>& warnings) {
-    for (const auto& w : warnings) Log(GLLogStream::WARNING, "treeskel: warning: %s", w.c_str());
+  auto log_summary = [&](const bridge::LayerNotes& notes) {
+    Log("%s", notes.summary.c_str());
+    for (const auto& w : notes.warnings) Log(GLLogStream::WARNING, "treeskel: warning: %s", w.c_str());
   };
   if (!mesh) {
     bridge::SkeletonLayer skeleton;
     if (!bridge::tree_skeleton(xyz, sp, mp, progress, skeleton, error)) {
       return fail(QString("Tree Skeleton failed on layer '%1': %2").arg(label, QString::fromStdString(error)));
     }
-    add_leaves(skeleton.wood, skeleton.leaves);
+    add_leaves(skeleton);
     MeshModel* layer = document.addNewMesh("", label + " skeleton", true);
     layer->updateDataMask(MeshModel::MM_VERTQUALITY);
     auto first = add_vertices(layer->cm, skeleton.xyz);
@@ -244,23 +245,21 @@ bool FilterTreeskelPlugin::applyFilter(QAction* action, MeshDocument& document, 
       edge->V(1) = &*(first + skeleton.edges[e + 1]);
     }
     layer->UpdateBoxAndNormals();
-    Log("%s", skeleton.summary.c_str());
-    log_warnings(skeleton.warnings);
+    log_summary(skeleton);
     return true;
   }
   bridge::MeshLayer result;
   if (!bridge::tree_mesh(xyz, sp, mp, progress, result, error)) {
     return fail(QString("Tree Mesh failed on layer '%1': %2").arg(label, QString::fromStdString(error)));
   }
-  add_leaves(result.wood, result.leaves);
+  add_leaves(result);
   MeshModel* layer = document.addNewMesh("", label + " tree mesh", true);
   auto first = add_vertices(layer->cm, result.xyz);
   auto face = vcg::tri::Allocator<CMeshO>::AddFaces(layer->cm, result.triangles.size() / 3);
   for (std::size_t t = 0; t + 2 < result.triangles.size(); t += 3, ++face)
     for (int k = 0; k < 3; ++k) face->V(k) = &*(first + result.triangles[t + k]);
   layer->UpdateBoxAndNormals();
-  Log("%s", result.summary.c_str());
-  log_warnings(result.warnings);
+  log_summary(result);
   return true;
 }
 

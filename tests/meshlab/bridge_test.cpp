@@ -8,34 +8,29 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <array>
+#include <fstream>
 #include <map>
-#include <set>
 #include <regex>
+#include <set>
 #include <sstream>
 
 namespace treeskel::meshlab {
 namespace {
 
-/// A bundled cloud as the plugin passes it: world coordinates, flat.
-std::vector<double> flat_cloud(const std::string& name) {
+/// A bundled cloud as the plugin passes it, flat: at its world coordinates, or `near_origin` (its
+/// minimum corner at 0, in floats), as a georeferenced cloud must be before MeshLab reads it.
+std::vector<double> flat_cloud(const std::string& name, bool near_origin = false) {
   const PointCloud cloud = io::read_point_cloud(test::data_file(name));
   std::vector<double> xyz;
   for (const auto& p : cloud.positions)
-    for (int a = 0; a < 3; ++a) xyz.push_back(p[a] + cloud.offset[a]);
+    for (int a = 0; a < 3; ++a)
+      xyz.push_back(near_origin ? static_cast<double>(static_cast<float>(p[a])) : p[a] + cloud.offset[a]);
   return xyz;
 }
 
-/// A bundled cloud moved near the origin (its minimum corner at 0), as a georeferenced cloud must be
-/// before MeshLab reads it into 32-bit floats.
-std::vector<double> near_origin(const std::string& name) {
-  const PointCloud cloud = io::read_point_cloud(test::data_file(name));
-  std::vector<double> xyz;
-  for (const auto& p : cloud.positions)
-    for (int a = 0; a < 3; ++a) xyz.push_back(static_cast<double>(static_cast<float>(p[a])));
-  return xyz;
-}
+/// The bundled cloud near the origin.
+std::vector<double> near_origin(const std::string& name) { return flat_cloud(name, true); }
 
 /// True when `edges` (index pairs) over `nodes` nodes form one tree.
 bool is_tree(std::size_t nodes, const std::vector<int>& edges) {

@@ -29,7 +29,6 @@ three_points() { printf '0 0 0\n1 0 0\n0 1 1\n' | to_ply three.ply; }
 near_origin() {
   local shift="0 0"; [ "$1" = utm ] || shift="269600 5168550"
   grep -v '^#' "$data/tree_arbor_leafy.xyz" | awk -v s="$shift" 'BEGIN {split(s, o, " ")} NF >= 3 {printf "%.4f %.4f %s\n", $1 - o[1], $2 - o[2], $3}' | to_ply cloud.ply
-  echo cloud.ply
 }
 
 # The bundled rTwig cloud as an ASCII PLY (MeshLab's own reader), the AdTree cloud as it is (.xyz).
@@ -91,7 +90,7 @@ case $case_name in
     # far-from-origin): by default the log says it looks leafy and names the "Wood only" option;
     # with it set in a copy of the bundled script, the mesh is made of the wood and the points set
     # aside are a layer of their own (layer 1, between the cloud and the mesh), as many as the log says.
-    near_origin arbor > /dev/null
+    near_origin near
     expect_ok -i cloud.ply -o plain.ply -s "$scripts/tree_mesh.mlx"
     grep -F "looks leafy" server.log | grep -qF '"Wood only"' || { cat server.log >&2; echo "no leafy warning" >&2; exit 1; }
     sed 's/name="woodOnly" value="false"/name="woodOnly" value="true"/' "$scripts/tree_mesh.mlx" > wood.mlx
@@ -109,7 +108,7 @@ case $case_name in
   far-from-origin)
     # At its UTM coordinates MeshLab holds arbor's tree on a grid of floats 0.5 apart: both filters
     # fail with a message that says so and what to do, and write nothing.
-    near_origin utm > /dev/null
+    near_origin utm
     for script in tree_skeleton tree_mesh; do
       rc=0; run -i cloud.ply -o out.obj -s "$scripts/$script.mlx" || rc=$?
       [ "$rc" -eq 255 ] || { cat server.log >&2; echo "$script: exit $rc, expected 255" >&2; exit 1; }
