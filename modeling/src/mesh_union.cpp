@@ -7,10 +7,14 @@
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/boost/graph/graph_traits_TriMesh_ArrayKernelT.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Random.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/boost/graph/Face_filtered_graph.h>
+#include <CGAL/boost/graph/copy_face_graph.h>
 // After the graph helpers the headers above bring (Side_of_triangle_mesh needs them declared first).
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -25,6 +29,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 namespace treeskel::modeling::detail {
 
@@ -113,6 +118,20 @@ TreeMesh to_tree_mesh(const Surface& s, const Eigen::Vector3d& offset) {
   return out;
 }
 
+using GT = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+/// Which side of a closed mesh a point lies on (an AABB tree of its faces in doubles, exact predicates).
+class SideOf {
+ public:
+  explicit SideOf(const TreeMesh& mesh) : tree_(faces(mesh).first, faces(mesh).second, mesh) {}
+  CGAL::Bounded_side operator()(const GT::Point_3& p) const { return CGAL::Side_of_triangle_mesh<TreeMesh, GT, VPM, Tree>(tree_)(p); }
+
+ private:
+  using VPM = boost::property_map<TreeMesh, CGAL::vertex_point_t>::const_type;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<GT, CGAL::AABB_face_graph_triangle_primitive<TreeMesh, VPM>>>;
+  Tree tree_;
+};
+
 /// Whether two closed pieces cross or one holds the other, as `PMP::do_intersect` with the overlap
 /// test of bounded sides decides it, but with each piece's AABB tree and points built once, not for
 /// every pair tested (on a crowded pine of the LPine1 plot those trees were 8% of its model).
@@ -125,18 +144,18 @@ class Overlaps {
     return holds(i, j) || holds(j, i);
   }
 
- private:
-  using GT = CGAL::Exact_predicates_inexact_constructions_kernel;
-  using VPM = boost::property_map<TreeMesh, CGAL::vertex_point_t>::const_type;
-  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<GT, CGAL::AABB_face_graph_triangle_primitive<TreeMesh, VPM>>>;
+  /// Where `p` lies with respect to piece `i`.
+  CGAL::Bounded_side side(std::size_t i, const GT::Point_3& p) {
+    if (!trees_[i]) trees_[i] = std::make_unique<SideOf>(pieces_[i]);
+    return (*trees_[i])(p);
+  }
 
+ private:
   /// Whether piece `a` holds piece `b`, their surfaces apart: then every component of `b` lies
   /// wholly inside or wholly outside `a`, and any one of its points tells which.
   bool holds(std::size_t a, std::size_t b) {
-    if (!trees_[a]) trees_[a] = std::make_unique<Tree>(faces(pieces_[a]).first, faces(pieces_[a]).second, pieces_[a]);
     if (points_[b].empty()) points_[b] = one_point_per_component(pieces_[b]);
-    const CGAL::Side_of_triangle_mesh<TreeMesh, GT, VPM, Tree> side(*trees_[a]);
-    return std::any_of(points_[b].begin(), points_[b].end(), [&](const GT::Point_3& p) { return side(p) == CGAL::ON_BOUNDED_SIDE; });
+    return std::any_of(points_[b].begin(), points_[b].end(), [&](const GT::Point_3& p) { return side(a, p) == CGAL::ON_BOUNDED_SIDE; });
   }
 
   static std::vector<GT::Point_3> one_point_per_component(const TreeMesh& mesh) {
@@ -163,7 +182,7 @@ class Overlaps {
   }
 
   const std::vector<TreeMesh>& pieces_;
-  std::vector<std::unique_ptr<Tree>> trees_;
+  std::vector<std::unique_ptr<SideOf>> trees_;
   std::vector<std::vector<GT::Point_3>> points_;
 };
 
@@ -180,6 +199,211 @@ bool unite_into(Surface& whole, Surface piece) {
   if (ok) whole = std::move(copy);
   return ok;
 }
+
+/// The whole tree as pieces are united into it. A connected part of a piece whose surface meets none
+/// of the whole's is not given to corefinement: it lies inside the whole (and is dropped, as the
+/// union would drop it) or outside (and is joined as it is, as the union would keep it). To tell
+/// which, corefinement builds an AABB tree of the whole in exact numbers: on AdTree's Lille_2 that
+/// was most of the 1.15 s its one union of 80k faces of pieces with the 240k-face tree took.
+class Whole {
+ public:
+  Whole(const TreeMesh& base, const std::vector<Eigen::AlignedBox3d>& boxes, Overlaps& sides)
+      : base_(base), boxes_(boxes), sides_(sides) {
+    append(surface_, base);
+    auto part = surface_.add_property_map<Surface::Face_index, std::size_t>("f:part").first;
+    made_of_.resize(PMP::connected_components(surface_, part));
+    const std::vector<CGAL::Bbox_3> box = face_boxes(surface_);
+    for (auto f : surface_.faces()) made_of_[part[f]] += box[f];
+    surface_.remove_property_map(part);
+  }
+
+  Surface& surface() { return surface_; }
+
+  /// Unites `piece`, the union of the pieces `members`, into the whole; false, with the whole
+  /// unchanged, if CGAL refuses. `corefinements` counts the corefinements run. Each part is decided
+  /// on its own, as corefinement decides a part its intersections leave whole.
+  bool unite(Surface piece, const std::vector<std::size_t>& members, std::size_t& corefinements) {
+    auto part = piece.add_property_map<Surface::Face_index, std::size_t>("f:part").first;
+    const std::size_t parts = PMP::connected_components(piece, part);
+    const std::vector<CGAL::Bbox_3> face_box = face_boxes(piece);
+    std::vector<CGAL::Bbox_3> part_box(parts);
+    for (auto f : piece.faces()) part_box[part[f]] += face_box[f];
+    // 1: corefined with the whole; 0: inside it, dropped; 2: outside it, joined as it is.
+    std::vector<int> fate(parts, 1);
+    const std::vector<char> meets = parts_meeting(piece, part, face_box, part_box);
+    for (std::size_t c = 0; c < parts; ++c) {
+      if (meets[c]) continue;
+      const auto p = input_point(piece, part, c);
+      const auto in = p ? inside(*p) : std::nullopt;
+      if (in) fate[c] = *in ? 0 : 2;
+    }
+    bool ok = true;
+    if (std::all_of(fate.begin(), fate.end(), [](int f) { return f == 1; })) {
+      ++corefinements;
+      ok = unite_into(surface_, std::move(piece));
+    } else {
+      Surface rest = parts_of(piece, part, fate, 1), outside = parts_of(piece, part, fate, 2);
+      if (!rest.is_empty()) {
+        ++corefinements;
+        ok = unite_into(surface_, std::move(rest));
+      }
+      if (ok) surface_.join(outside);
+    }
+    if (!ok) return false;
+    united_.insert(united_.end(), members.begin(), members.end());
+    // Each component of a union holds a component of its inputs whole, so its box holds that one's.
+    for (std::size_t c = 0; c < parts; ++c)
+      if (fate[c] != 0) made_of_.push_back(part_box[c]);
+    return true;
+  }
+
+ private:
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, Surface::Face_index>;
+
+  /// The boxes of the faces of `s`, by face index (each vertex's box taken once).
+  static std::vector<CGAL::Bbox_3> face_boxes(const Surface& s) {
+    std::vector<CGAL::Bbox_3> at(s.number_of_vertices() + s.number_of_removed_vertices());
+    for (auto v : s.vertices()) at[v] = s.point(v).bbox();
+    std::vector<CGAL::Bbox_3> out(s.number_of_faces() + s.number_of_removed_faces());
+    for (auto f : s.faces()) {
+      const auto h = s.halfedge(f);
+      out[f] = at[s.target(h)] + at[s.target(s.next(h))] + at[s.source(h)];
+    }
+    return out;
+  }
+
+  static bool within(const CGAL::Bbox_3& in, const CGAL::Bbox_3& box) {
+    return box.xmin() <= in.xmin() && in.xmax() <= box.xmax() && box.ymin() <= in.ymin() && in.ymax() <= box.ymax() &&
+           box.zmin() <= in.zmin() && in.zmax() <= box.zmax();
+  }
+
+  static K::Triangle_3 triangle(const Surface& s, Surface::Face_index f) {
+    const auto h = s.halfedge(f);
+    return {s.point(s.target(h)), s.point(s.target(s.next(h))), s.point(s.source(h))};
+  }
+
+  /// Which parts of `piece` have a point in common with the whole's surface (exact tests of the
+  /// face pairs whose boxes meet), or might hold a component of it: the box of one of the meshes
+  /// the whole was made of lies in theirs. (The union would drop that component; corefinement is
+  /// left to find out.)
+  std::vector<char> parts_meeting(const Surface& piece, const Surface::Property_map<Surface::Face_index, std::size_t>& part,
+                                  const std::vector<CGAL::Bbox_3>& face_box, const std::vector<CGAL::Bbox_3>& part_box) const {
+    const std::size_t parts = part_box.size();
+    std::vector<char> meets(parts, 0);
+    CGAL::Bbox_3 bound;
+    for (std::size_t c = 0; c < parts; ++c) {
+      bound += part_box[c];
+      for (const auto& b : made_of_)
+        if (within(b, part_box[c])) meets[c] = 1;
+    }
+    std::vector<Box> theirs;
+    {
+      const std::vector<CGAL::Bbox_3> box = face_boxes(surface_);
+      std::size_t count = 0;
+      for (auto f : surface_.faces()) count += CGAL::do_overlap(box[f], bound) ? 1 : 0;
+      theirs.reserve(count);
+      for (auto f : surface_.faces())
+        if (CGAL::do_overlap(box[f], bound)) theirs.emplace_back(box[f], f);
+    }
+    std::vector<std::vector<Box>> mine(parts);
+    {
+      std::vector<std::size_t> count(parts, 0);
+      for (auto f : piece.faces()) ++count[part[f]];
+      for (std::size_t c = 0; c < parts; ++c) mine[c].reserve(count[c]);
+      for (auto f : piece.faces()) mine[part[f]].emplace_back(face_box[f], f);
+    }
+    // Box intersection shuffles with CGAL's default random generator, which the corefinements after
+    // this draw from too: its state is kept, so that they meet the faces in the order they did before.
+    const CGAL::Random kept = CGAL::get_default_random();
+    struct Met {};
+    std::vector<Box> near;
+    for (std::size_t c = 0; c < parts; ++c) {
+      if (meets[c]) continue;
+      near.clear();
+      for (const auto& b : theirs)
+        if (CGAL::do_overlap(b.bbox(), part_box[c])) near.push_back(b);
+      try {
+        CGAL::box_intersection_d(mine[c].begin(), mine[c].end(), near.begin(), near.end(), [&](const Box& a, const Box& b) {
+          if (faces_meet(piece, a.info(), surface_, b.info())) throw Met{};
+        });
+      } catch (const Met&) {
+        meets[c] = 1;
+      }
+    }
+    CGAL::get_default_random() = kept;
+    return meets;
+  }
+
+  /// Whether two faces have a point in common: in doubles (exact predicates) when their points are
+  /// doubles, as the inputs' are, else in exact numbers.
+  static bool faces_meet(const Surface& s, Surface::Face_index f, const Surface& t, Surface::Face_index g) {
+    std::array<GT::Point_3, 6> p;
+    std::size_t k = 0;
+    for (const auto& [m, face] : {std::pair{&s, f}, std::pair{&t, g}})
+      for (auto v : CGAL::vertices_around_face(m->halfedge(face), *m)) {
+        const auto q = as_double(m->point(v));
+        if (!q) return CGAL::do_intersect(triangle(s, f), triangle(t, g));
+        p[k++] = *q;
+      }
+    return CGAL::do_intersect(GT::Triangle_3(p[0], p[1], p[2]), GT::Triangle_3(p[3], p[4], p[5]));
+  }
+
+  /// The point as doubles if its coordinates are doubles (as the inputs' are, not the ones unions make).
+  static std::optional<GT::Point_3> as_double(const K::Point_3& p) {
+    const auto x = CGAL::to_interval(p.x()), y = CGAL::to_interval(p.y()), z = CGAL::to_interval(p.z());
+    if (x.first != x.second || y.first != y.second || z.first != z.second) return std::nullopt;
+    return GT::Point_3(x.first, y.first, z.first);
+  }
+
+  /// A vertex of part `c` whose coordinates are doubles (one of the input's, not one a union made).
+  static std::optional<GT::Point_3> input_point(const Surface& piece, const Surface::Property_map<Surface::Face_index, std::size_t>& part,
+                                               std::size_t c) {
+    for (auto f : piece.faces()) {
+      if (part[f] != c) continue;
+      for (auto v : CGAL::vertices_around_face(piece.halfedge(f), piece))
+        if (const auto p = as_double(piece.point(v))) return p;
+    }
+    return std::nullopt;
+  }
+
+  /// Whether `p`, on none of the whole's surface, lies inside the whole: the base and the pieces
+  /// united so far, as closed meshes of doubles; empty if `p` lies on one of their surfaces (inside
+  /// another: the whole's surface is not theirs there).
+  std::optional<bool> inside(const GT::Point_3& p) {
+    if (!base_side_) base_side_ = std::make_unique<SideOf>(base_);
+    bool in = false;
+    auto add = [&](CGAL::Bounded_side side) {
+      if (side == CGAL::ON_BOUNDARY) return false;
+      in = in || side == CGAL::ON_BOUNDED_SIDE;
+      return true;
+    };
+    if (!add((*base_side_)(p))) return std::nullopt;
+    const Eigen::Vector3d q(p.x(), p.y(), p.z());
+    for (std::size_t i : united_)
+      if (boxes_[i].contains(q) && !add(sides_.side(i, p))) return std::nullopt;
+    return in;
+  }
+
+  /// The faces of `piece` whose part's fate is `which`, as a mesh of their own.
+  static Surface parts_of(const Surface& piece, const Surface::Property_map<Surface::Face_index, std::size_t>& part,
+                          const std::vector<int>& fate, int which) {
+    std::vector<std::size_t> chosen;
+    for (std::size_t c = 0; c < fate.size(); ++c)
+      if (fate[c] == which) chosen.push_back(c);
+    Surface out;
+    if (chosen.empty()) return out;
+    CGAL::copy_face_graph(CGAL::Face_filtered_graph<Surface>(piece, chosen, part), out);
+    return out;
+  }
+
+  const TreeMesh& base_;
+  const std::vector<Eigen::AlignedBox3d>& boxes_;
+  Overlaps& sides_;
+  Surface surface_;
+  std::unique_ptr<SideOf> base_side_;
+  std::vector<std::size_t> united_;  // the pieces in the whole
+  std::vector<CGAL::Bbox_3> made_of_;  // the boxes of the base's components and of the parts united since
+};
 
 }  // namespace
 
@@ -338,8 +562,6 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
   // here, the same input gives the same mesh.
   CGAL::get_default_random() = CGAL::Random(0);
   UnionResult out;
-  Surface whole;
-  append(whole, base);
   std::vector<Eigen::AlignedBox3d> boxes;
   for (const auto& p : pieces) {
     Eigen::AlignedBox3d b = bounding_box(p);
@@ -377,6 +599,7 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
       const std::size_t i = usable[a], j = usable[b];
       if (linked.find(i) != linked.find(j) && boxes[i].intersects(boxes[j]) && overlap(i, j)) linked.unite(i, j);
     }
+  Whole whole(base, boxes, overlap);
   struct Group {
     Surface surface;
     std::vector<std::size_t> members;  // the pieces united into it
@@ -395,6 +618,11 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
     ++out.batches;
     return unite_into(into, std::move(piece));
   };
+  auto try_unite_whole = [&](Surface piece, const std::vector<std::size_t>& members) {
+    if (budget == 0) return false;
+    --budget;
+    return whole.unite(std::move(piece), members, out.batches);
+  };
   for (std::size_t i : usable) {
     auto& g = group_of[linked.find(i)];
     if (g < 0) {
@@ -408,14 +636,13 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
   }
   if (!groups.empty()) {
     Surface together;
-    std::size_t count = 0;
+    std::vector<std::size_t> members;
     for (const auto& g : groups) {
       together.join(g.surface);
-      count += g.members.size();
+      members.insert(members.end(), g.members.begin(), g.members.end());
     }
-    ++out.batches;
-    if (unite_into(whole, std::move(together))) {
-      out.united += count;
+    if (whole.unite(std::move(together), members, out.batches)) {
+      out.united += members.size();
     } else {
       // One group at a time, and the pieces of a group the whole refuses one at a time.
       for (const auto& g : groups) {
@@ -423,7 +650,7 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
           out.skipped += g.members.size();
           continue;
         }
-        if (groups.size() > 1 && try_unite(whole, g.surface)) {
+        if (groups.size() > 1 && try_unite_whole(g.surface, g.members)) {
           out.united += g.members.size();
           continue;
         }
@@ -449,23 +676,23 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
     if (layer.size() > 1 && budget > 0) {
       Surface together;
       for (std::size_t i : layer) together.join(surfaces[i]);
-      if (try_unite(whole, std::move(together))) {
+      if (try_unite_whole(std::move(together), layer)) {
         out.united += layer.size();
         continue;
       }
     }
     for (std::size_t i : layer) {  // alone, or the layer refused: one at a time
       if (budget == 0) ++out.skipped;
-      else if (try_unite(whole, surfaces[i])) ++out.united;
+      else if (try_unite_whole(surfaces[i], {i})) ++out.united;
       else keep_apart(surfaces[i], 1);
     }
   }
-  whole.collect_garbage();
+  whole.surface().collect_garbage();
   if (apart.number_of_faces() > 0) out.apart = to_tree_mesh(apart, offset);
   // The exact points rounded to what 32-bit floats hold in the input's frame, where most formats and
   // MeshLab keep them: a file then holds the mesh that was checked.
-  out.mesh = to_tree_mesh(whole, offset);
-  if (out.batches > 0) out.welded = weld_short_edges(out.mesh, weld, where);
+  out.mesh = to_tree_mesh(whole.surface(), offset);
+  if (out.batches > 0 || out.united > 0) out.welded = weld_short_edges(out.mesh, weld, where);
   return out;
 }
 

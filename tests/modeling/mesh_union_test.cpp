@@ -160,13 +160,53 @@ TEST(MeshUnion, WeldsOnlyWithinTheBoxesGiven) {
   EXPECT_EQ(mesh.n_vertices(), tube.n_vertices() - 1);
 }
 
+// A piece whose surface meets none of the tree's is added as it is, without a corefinement.
 TEST(MeshUnion, PiecesApartStayAsTheirOwnComponents) {
   const TreeMesh a = sweep_mesh(test::straight(1.0, 0.1, 10));
   Skeleton far = test::straight(1.0, 0.1, 10);
   for (NodeId v = 0; v < far.node_count(); ++v) far[v].position.x() += 5.0;
   const auto united = detail::unite(a, {sweep_mesh(far)}, 1e-6);
+  EXPECT_EQ(united.united, 1u);
+  EXPECT_EQ(united.batches, 0u);
   EXPECT_EQ(check_mesh(united.mesh).components, 2u);
   EXPECT_EQ(united.mesh.n_faces(), 2 * a.n_faces());
+}
+
+// One corefinement takes the pieces that cross the tree; the one apart from it is added beside
+// them, the one inside it is dropped: the mesh is the one the crossing piece alone gives, plus the
+// piece apart.
+TEST(MeshUnion, OnlyPiecesThatMeetTheTreeAreCorefined) {
+  using P = TreeMesh::Point;
+  const TreeMesh trunk = sweep_mesh(test::straight(2.0, 0.1, 20));
+  const TreeMesh crossing = limb(1.0, Eigen::Vector3d(1, 0, 1.5));
+  const TreeMesh apart = limb(1.0, Eigen::Vector3d(-1, 0, 1.5));
+  TreeMesh away = apart;
+  for (auto v : away.vertices()) away.set_point(v, away.point(v) + P(-0.5, 0, 0));  // clear of the trunk
+  const double e = 0.01;  // well inside the trunk (radius 0.1)
+  const TreeMesh inside = tetrahedron(P(0, 0, 0.5), P(e, 0, 0.5), P(0, e, 0.5), P(0, 0, 0.5 + e));
+  const auto united = detail::unite(trunk, {crossing, away, inside}, 1e-6 * 2.0);
+  EXPECT_EQ(united.united, 3u);
+  EXPECT_EQ(united.batches, 1u);
+  const MeshCheck c = check_mesh(united.mesh);
+  EXPECT_EQ(c.boundary_edges, 0u);
+  EXPECT_EQ(c.non_manifold_vertices, 0u);
+  EXPECT_EQ(c.components, 2u);
+  const auto alone = detail::unite(trunk, {crossing}, 1e-6 * 2.0);
+  EXPECT_EQ(united.mesh.n_faces(), alone.mesh.n_faces() + away.n_faces());
+  // The same up to the rounding of the piece apart to 32-bit floats.
+  EXPECT_NEAR(c.volume, check_mesh(alone.mesh).volume + check_mesh(away).volume, 1e-7 * c.volume);
+}
+
+// A piece whose surface meets none of the tree's but holds it: the union is the piece alone (the
+// tree is inside it), which corefinement finds.
+TEST(MeshUnion, APieceHoldingTheTreeReplacesIt) {
+  using P = TreeMesh::Point;
+  const TreeMesh small = tetrahedron(P(0, 0, 0), P(1, 0, 0), P(0, 1, 0), P(0, 0, 1));
+  const TreeMesh large = tetrahedron(P(-1, -1, -1), P(4, -1, -1), P(-1, 4, -1), P(-1, -1, 4));
+  const auto united = detail::unite(small, {large}, 1e-9);
+  EXPECT_EQ(united.united, 1u);
+  EXPECT_EQ(united.mesh.n_faces(), 4u);
+  EXPECT_NEAR(check_mesh(united.mesh).volume, check_mesh(large).volume, 1e-12);
 }
 
 // A piece the union refuses (here: open, one face missing) is returned beside the mesh, not in it:
