@@ -22,6 +22,8 @@
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -623,16 +625,52 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
     --budget;
     return whole.unite(std::move(piece), members, out.batches);
   };
+  // The pieces of each group, in order: the first starts the group, the others are united into it.
+  std::vector<std::vector<std::size_t>> candidates;
   for (std::size_t i : usable) {
     auto& g = group_of[linked.find(i)];
     if (g < 0) {
-      g = static_cast<std::ptrdiff_t>(groups.size());
-      groups.push_back({surfaces[i], {i}});
-      continue;
+      g = static_cast<std::ptrdiff_t>(candidates.size());
+      candidates.emplace_back();
     }
-    auto& into = groups[static_cast<std::size_t>(g)];
-    if (into.members.size() < kMaxGroup && try_unite(into.surface, surfaces[i])) into.members.push_back(i);
-    else alone.push_back(i);
+    candidates[static_cast<std::size_t>(g)].push_back(i);
+  }
+  groups.resize(candidates.size());
+  std::size_t most = 0;  // unions the groups may need
+  for (const auto& c : candidates) most += c.size() - 1;
+  if (most <= budget) {
+    // Within the budget, the groups are made side by side: no group's unions depend on another's.
+    std::vector<std::vector<std::size_t>> left(groups.size());
+    std::vector<std::size_t> attempts(groups.size(), 0);
+    tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+      const auto& c = candidates[g];
+      groups[g] = {surfaces[c.front()], {c.front()}};
+      for (std::size_t k = 1; k < c.size(); ++k) {
+        if (groups[g].members.size() < kMaxGroup) {
+          ++attempts[g];
+          if (unite_into(groups[g].surface, surfaces[c[k]])) {
+            groups[g].members.push_back(c[k]);
+            continue;
+          }
+        }
+        left[g].push_back(c[k]);
+      }
+    });
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      alone.insert(alone.end(), left[g].begin(), left[g].end());
+      budget -= attempts[g];
+      out.batches += attempts[g];
+    }
+    std::sort(alone.begin(), alone.end());  // in the order of the pieces, as one at a time
+  } else {
+    // The budget may run out: one piece at a time, in their order, each drawing on it.
+    for (std::size_t g = 0; g < groups.size(); ++g) groups[g] = {surfaces[candidates[g].front()], {candidates[g].front()}};
+    for (std::size_t i : usable) {
+      auto& into = groups[static_cast<std::size_t>(group_of[linked.find(i)])];
+      if (into.members.front() == i) continue;
+      if (into.members.size() < kMaxGroup && try_unite(into.surface, surfaces[i])) into.members.push_back(i);
+      else alone.push_back(i);
+    }
   }
   if (!groups.empty()) {
     Surface together;

@@ -4,8 +4,10 @@
 #include "treeskel/modeling/sweep.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <array>
+#include <vector>
 
 namespace treeskel::modeling {
 namespace {
@@ -52,6 +54,27 @@ TEST(MeshUnion, PiecesThatCrossAreUnitedTogetherFirst) {
   EXPECT_EQ(united.failed, 0u);
   EXPECT_EQ(united.batches, 2u);  // low with high, then all with the trunk
   expect_valid(united.mesh);
+}
+
+/// The points of `mesh`'s faces, corner by corner, in face order.
+std::vector<TreeMesh::Point> face_corners(const TreeMesh& mesh) {
+  std::vector<TreeMesh::Point> out;
+  for (auto f : mesh.faces())
+    for (auto v : mesh.fv_range(f)) out.push_back(mesh.point(v));
+  return out;
+}
+
+// Groups of crossing pieces are united side by side; one thread gives the same mesh as two.
+TEST(MeshUnion, OneThreadOrTwoGiveTheSameMesh) {
+  const TreeMesh trunk = sweep_mesh(test::straight(2.0, 0.1, 20));
+  const std::vector<TreeMesh> pieces{limb(0.8, Eigen::Vector3d(1, 0, 1.6)), limb(1.6, Eigen::Vector3d(1, 0, 0.8)),
+                                     limb(0.5, Eigen::Vector3d(-1, 0, 1.3)), limb(1.3, Eigen::Vector3d(-1, 0, 0.5))};
+  const auto two = detail::unite(trunk, pieces, 1e-6 * 2.0);
+  EXPECT_EQ(two.united, 4u);
+  EXPECT_EQ(two.batches, 3u);  // the two pairs, then both with the trunk
+  tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+  const auto one = detail::unite(trunk, pieces, 1e-6 * 2.0);
+  EXPECT_EQ(face_corners(one.mesh), face_corners(two.mesh));
 }
 
 /// A closed tetrahedron, its faces turned outward.
