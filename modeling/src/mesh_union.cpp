@@ -314,9 +314,6 @@ class Whole {
       for (std::size_t c = 0; c < parts; ++c) mine[c].reserve(count[c]);
       for (auto f : piece.faces()) mine[part[f]].emplace_back(face_box[f], f);
     }
-    // Box intersection shuffles with CGAL's default random generator, which the corefinements after
-    // this draw from too: its state is kept, so that they meet the faces in the order they did before.
-    const CGAL::Random kept = CGAL::get_default_random();
     struct Met {};
     std::vector<Box> near;
     for (std::size_t c = 0; c < parts; ++c) {
@@ -332,7 +329,6 @@ class Whole {
         meets[c] = 1;
       }
     }
-    CGAL::get_default_random() = kept;
     return meets;
   }
 
@@ -560,8 +556,9 @@ std::size_t weld_short_edges(TreeMesh& mesh, double weld, const std::vector<Eige
 
 UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, double weld, const Eigen::Vector3d& offset,
                   const std::vector<Eigen::AlignedBox3d>& where, bool pieces_tested) {
-  // Box intersection (inside corefinement) shuffles with CGAL's default random generator: seeded
-  // here, the same input gives the same mesh.
+  // Nothing here is known to draw from CGAL's default random generator (box intersection and the
+  // side-of-mesh test use generators of their own, seeded the same every time); it is seeded anyway,
+  // so that a CGAL version whose corefinement did would still give the same mesh for the same input.
   CGAL::get_default_random() = CGAL::Random(0);
   UnionResult out;
   std::vector<Eigen::AlignedBox3d> boxes;
