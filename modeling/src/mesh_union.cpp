@@ -47,41 +47,42 @@ using Surface = CGAL::Surface_mesh<K::Point_3>;
 
 void append(Surface& out, const TreeMesh& mesh) { append_to_surface(out, mesh); }
 
-/// A coordinate as a double that does not depend on what was computed before: a lazy number's
-/// interval narrows once something needed its exact value (and what did depends on the order
-/// corefinement met the faces in, which follows their addresses), so its midpoint is not stable.
-/// The interval of a coordinate the inputs held is a single double; the others are taken exactly.
-double coordinate(const K::FT& x) {
-  const auto& i = x.approx();
-  if (i.inf() == i.sup()) return i.inf();
-  return CGAL::to_double(x.exact());
+/// A point as doubles that do not depend on what was computed before: a lazy number's interval
+/// narrows once something needed its exact value (and what did depends on the order corefinement
+/// met the faces in, which follows their addresses), so its midpoint is not stable. The interval of
+/// a coordinate the inputs held is a single double; a point with another is taken exactly. (From the
+/// point's own interval and exact value: its coordinates as lazy numbers were an allocation each, a
+/// third of the time of this conversion on the LPine1 plot's tree 11.)
+std::array<double, 3> coordinates(const K::Point_3& p) {
+  const auto& a = p.approx();
+  if (a.x().inf() == a.x().sup() && a.y().inf() == a.y().sup() && a.z().inf() == a.z().sup())
+    return {a.x().inf(), a.y().inf(), a.z().inf()};
+  const auto& e = p.exact();
+  return {CGAL::to_double(e.x()), CGAL::to_double(e.y()), CGAL::to_double(e.z())};
 }
 
 /// The mesh with its points rounded to 32-bit floats in the frame `offset` leads to, in a canonical
 /// order (vertices by position, faces by their vertices): corefinement's own order differs from run
 /// to run, the result must not.
 TreeMesh to_tree_mesh(const Surface& s, const Eigen::Vector3d& offset) {
-  std::vector<std::array<double, 3>> points;
+  std::vector<std::array<double, 3>> points, unrounded;
   std::vector<Surface::Vertex_index> ids;
+  std::vector<std::size_t> index_of(s.number_of_vertices() + s.number_of_removed_vertices());
   for (auto v : s.vertices()) {
-    const auto& p = s.point(v);
-    const Eigen::Vector3d exact(coordinate(p.x()), coordinate(p.y()), coordinate(p.z()));
+    const std::array<double, 3> exact = coordinates(s.point(v));
     std::array<double, 3> q;
-    for (int a = 0; a < 3; ++a)
-      q[static_cast<std::size_t>(a)] = file_float(exact[a], offset[a]) - offset[a];
+    for (int a = 0; a < 3; ++a) {
+      const auto i = static_cast<std::size_t>(a);
+      q[i] = file_float(exact[i], offset[a]) - offset[a];
+    }
+    index_of[v] = ids.size();
     points.push_back(q);
+    unrounded.push_back(exact);
     ids.push_back(v);
   }
   // Points that round to the same floats (or the same exact point in two parts that touch) are
   // told apart by their unrounded points, then by their neighbours': corefinement lists its
   // vertices in an order that follows memory addresses.
-  std::vector<std::array<double, 3>> unrounded(points.size());
-  std::vector<std::size_t> index_of(s.number_of_vertices() + s.number_of_removed_vertices());
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    const auto& p = s.point(ids[i]);
-    unrounded[i] = {coordinate(p.x()), coordinate(p.y()), coordinate(p.z())};
-    index_of[ids[i]] = i;
-  }
   auto neighbours = [&](std::size_t i) {
     std::vector<std::array<double, 3>> out;
     if (s.halfedge(ids[i]) == Surface::null_halfedge()) return out;  // a vertex no face uses
@@ -114,7 +115,9 @@ TreeMesh to_tree_mesh(const Surface& s, const Eigen::Vector3d& offset) {
   for (std::size_t k : order) sorted.push_back(points[k]);
   split_pinched_vertices(sorted, faces);
   TreeMesh out;
+  out.reserve(sorted.size(), 3 * faces.size() / 2, faces.size());
   std::vector<TreeMesh::VertexHandle> handle;
+  handle.reserve(sorted.size());
   for (const auto& p : sorted) handle.push_back(out.add_vertex(TreeMesh::Point(p[0], p[1], p[2])));
   for (const auto& c : faces) out.add_face(handle[c[0]], handle[c[1]], handle[c[2]]);
   return out;
