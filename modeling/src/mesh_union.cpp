@@ -215,11 +215,6 @@ class Whole {
   Whole(const TreeMesh& base, const std::vector<Eigen::AlignedBox3d>& boxes, Overlaps& sides)
       : base_(base), boxes_(boxes), sides_(sides) {
     append(surface_, base);
-    auto part = surface_.add_property_map<Surface::Face_index, std::size_t>("f:part").first;
-    made_of_.resize(PMP::connected_components(surface_, part));
-    const std::vector<CGAL::Bbox_3> box = face_boxes(surface_);
-    for (auto f : surface_.faces()) made_of_[part[f]] += box[f];
-    surface_.remove_property_map(part);
   }
 
   Surface& surface() { return surface_; }
@@ -254,12 +249,8 @@ class Whole {
       }
       if (ok) surface_.join(outside);
     }
-    if (!ok) return false;
-    united_.insert(united_.end(), members.begin(), members.end());
-    // Each component of a union holds a component of its inputs whole, so its box holds that one's.
-    for (std::size_t c = 0; c < parts; ++c)
-      if (fate[c] != 0) made_of_.push_back(part_box[c]);
-    return true;
+    if (ok) united_.insert(united_.end(), members.begin(), members.end());
+    return ok;
   }
 
  private:
@@ -288,22 +279,18 @@ class Whole {
   }
 
   /// Which parts of `piece` have a point in common with the whole's surface (exact tests of the
-  /// face pairs whose boxes meet), or might hold a component of it: the box of one of the meshes
-  /// the whole was made of lies in theirs. (The union would drop that component; corefinement is
-  /// left to find out.)
+  /// face pairs whose boxes meet), or might hold a component of it: the box of one of the whole's
+  /// components lies in theirs. (The union would drop that component; corefinement is left to find
+  /// out.)
   std::vector<char> parts_meeting(const Surface& piece, const Surface::Property_map<Surface::Face_index, std::size_t>& part,
-                                  const std::vector<CGAL::Bbox_3>& face_box, const std::vector<CGAL::Bbox_3>& part_box) const {
+                                  const std::vector<CGAL::Bbox_3>& face_box, const std::vector<CGAL::Bbox_3>& part_box) {
     const std::size_t parts = part_box.size();
     std::vector<char> meets(parts, 0);
     CGAL::Bbox_3 bound;
-    for (std::size_t c = 0; c < parts; ++c) {
-      bound += part_box[c];
-      for (const auto& b : made_of_)
-        if (within(b, part_box[c])) meets[c] = 1;
-    }
+    for (const auto& b : part_box) bound += b;
+    const std::vector<CGAL::Bbox_3> box = face_boxes(surface_);
     std::vector<Box> theirs;
     {
-      const std::vector<CGAL::Bbox_3> box = face_boxes(surface_);
       std::size_t count = 0;
       for (auto f : surface_.faces()) count += CGAL::do_overlap(box[f], bound) ? 1 : 0;
       theirs.reserve(count);
@@ -331,6 +318,16 @@ class Whole {
       } catch (const Met&) {
         meets[c] = 1;
       }
+    }
+    if (std::find(meets.begin(), meets.end(), 0) != meets.end()) {
+      // The whole's components, found only when some part meets none of its faces (seldom).
+      auto component = surface_.add_property_map<Surface::Face_index, std::size_t>("f:component").first;
+      std::vector<CGAL::Bbox_3> component_box(PMP::connected_components(surface_, component));
+      for (auto f : surface_.faces()) component_box[component[f]] += box[f];
+      surface_.remove_property_map(component);
+      for (std::size_t c = 0; c < parts; ++c)
+        for (const auto& b : component_box)
+          if (!meets[c] && within(b, part_box[c])) meets[c] = 1;
     }
     return meets;
   }
@@ -403,7 +400,6 @@ class Whole {
   Surface surface_;
   std::unique_ptr<SideOf> base_side_;
   std::vector<std::size_t> united_;  // the pieces in the whole
-  std::vector<CGAL::Bbox_3> made_of_;  // the boxes of the base's components and of the parts united since
 };
 
 }  // namespace
