@@ -463,6 +463,7 @@ class Builder {
     std::vector<Ring> rings;
     std::vector<std::size_t> first_vertex;
     std::vector<std::pair<Vector3d, std::size_t>> apex;
+    std::size_t optional = 0;  // the last points of `apex` may be left inside the hull (see hull_faces)
     NodeId top = 0;
     double radius = 0.0;
   };
@@ -509,7 +510,8 @@ class Builder {
         if (!arm.forward) join.top = t_.chains[arm.chain].nodes.back();
       }
       if (std::none_of(cl.arms.begin(), cl.arms.end(), [](const Arm& a) { return !a.forward; })) join.top = sk_.root;
-      if (cl.arms.size() == 1) {  // every other arm left inside: a cone closes the branch
+      const bool based = is_junction_[sk_.root] && uf.find(sk_.root) == id && add_base(cl, join, vertices);
+      if (cl.arms.size() == 1 && !based) {  // every other arm left inside: a cone closes the branch
         const auto [ring, outward] = arm_ring(cl.arms.front(), cl.arms.front().d);
         vertices.push_back(ring.centre - outward * std::max(0.25 * ring.radius, cl.arms.front().d));
         join.apex.emplace_back(vertices.back(), vertices.size() - 1);
@@ -583,7 +585,7 @@ class Builder {
     if (!attempt.shrink.empty()) return;
     for (const Join& join : joins) {
       begin_part(join.first_vertex, {});
-      hull_faces(join.rings, join.first_vertex, join.apex, join.top, join.radius, add_face, attempt);
+      hull_faces(join.rings, join.first_vertex, join.apex, join.optional, join.top, join.radius, add_face, attempt);
     }
     for (const Tube& tube : tubes) {
       const std::ptrdiff_t tube_id = static_cast<std::ptrdiff_t>(attempt.tube_parts.size());
@@ -626,10 +628,55 @@ class Builder {
     }
   }
 
+  /// The join that holds the root is closed there by a flat base across its thickest branch, as the
+  /// base of a root with one branch is: its rings alone leave the tree standing on their hull, up to
+  /// `join_reach` radii above its base (0.12 m of a 0.17 m trunk on plantscan3d's A3B4), and a limb
+  /// swept apart from the root then hangs beneath the tree, apart from it. The base is that branch's
+  /// ring (without a neck) at the root, across the branch, where it lies wholly behind every ring's
+  /// plane, so that each ring stays a face of the hull; else a narrower one, else the root alone; else
+  /// none (a ring leaning over the root). Its points are optional points of `join.apex`: those the
+  /// hull leaves inside it (where a ring dips below the base) are left out.
+  bool add_base(const Cluster& cl, Join& join, std::vector<Vector3d>& vertices) const {
+    // The thickest branch, by its radius without the neck its ring may have at a narrow fork.
+    auto width = [&](std::size_t i) { return join.rings[i].radius / cl.arms[i].neck; };
+    std::size_t thick = 0;
+    for (std::size_t i = 1; i < join.rings.size(); ++i)
+      if (width(i) > width(thick)) thick = i;
+    const auto [widest, outward] = arm_ring(cl.arms[thick], cl.arms[thick].d);
+    Ring base;
+    base.centre = sk_[sk_.root].position;
+    base.normal = -outward;
+    base.u = widest.u;
+    base.sides = widest.sides;
+    for (const double share : {1.0, 0.75, 0.5, 0.25, 0.0}) {
+      base.radius = share * width(thick);
+      if (!behind_rings(cl, base)) continue;
+      for (int k = 0; k < (share > 0.0 ? base.sides : 1); ++k) {
+        vertices.push_back(share > 0.0 ? base.vertex(k) : base.centre);
+        join.apex.emplace_back(vertices.back(), vertices.size() - 1);
+        ++join.optional;
+      }
+      return true;
+    }
+    return false;
+  }
+
+  /// Whether `circle` (a ring, or a point: radius 0) lies wholly behind the plane of every ring of
+  /// the join `cl`, by the margin `place` leaves between rings.
+  bool behind_rings(const Cluster& cl, const Ring& circle) const {
+    return std::all_of(cl.arms.begin(), cl.arms.end(), [&](const Arm& arm) {
+      const auto [ring, out] = arm_ring(arm, arm.d);
+      return reach_beyond(ring, out, circle) < -(0.02 * ring.radius + eps_);
+    });
+  }
+
+  /// The faces of the convex hull of a join's rings and `extra` points, but the rings' own: the
+  /// join's surface. The last `optional` extra points may lie inside the hull (they are then left
+  /// out); any other point inside it means the rings do not fit, and `top` is to be thinned.
   template <class AddFace>
   void hull_faces(const std::vector<Ring>& rings, const std::vector<std::size_t>& first_vertex,
-                  const std::vector<std::pair<Vector3d, std::size_t>>& extra, NodeId top, double radius,
-                  AddFace& add_face, Attempt& attempt) const {
+                  const std::vector<std::pair<Vector3d, std::size_t>>& extra, std::size_t optional, NodeId top,
+                  double radius, AddFace& add_face, Attempt& attempt) const {
     using K = CGAL::Exact_predicates_inexact_constructions_kernel;
     // The join's points, and each one's vertex id and ring.
     std::vector<double> key;
@@ -647,6 +694,8 @@ class Builder {
       id.push_back(extra[i].second);
       ring_of.push_back(rings.size() + i);
     }
+    const std::size_t required = id.size() - optional;
+    key.push_back(static_cast<double>(optional));
     // Repair rounds leave most joins as they were: their hulls are computed once.
     auto cached = hulls_->find(key);
     if (cached == hulls_->end()) {
@@ -659,7 +708,12 @@ class Builder {
       CGAL::Surface_mesh<K::Point_3> hull;
       CGAL::convex_hull_3(points.begin(), points.end(), hull);
       std::optional<std::vector<std::array<std::size_t, 3>>> corners;
-      if (hull.number_of_vertices() == points.size()) {
+      std::size_t kept = 0;  // of the points that must be corners
+      for (auto v : hull.vertices()) {
+        const auto& p = hull.point(v);
+        kept += index.at({p.x(), p.y(), p.z()}) < required ? 1 : 0;
+      }
+      if (kept == required) {
         corners.emplace();
         for (auto f : hull.faces()) {
           std::array<std::size_t, 3> corner{};

@@ -81,6 +81,50 @@ TEST(SweepMesh, YIsOneClosedMeshWithinTwoPercentOfItsVolume) {
   }
 }
 
+/// A trunk standing at the origin with limbs leaving its base (the root is a fork), each limb
+/// going to `to` with radius `limb_radius`.
+Skeleton forked_base(const std::vector<Eigen::Vector3d>& limbs, double limb_radius) {
+  Skeleton s;
+  SkeletonNode root;
+  root.position = Eigen::Vector3d::Zero();
+  root.radius = 0.1;
+  s.root = add_node(s, root);
+  test::add_run(s, s.root, Eigen::Vector3d(0, 0, 3), 0.1, 30);
+  for (const auto& to : limbs) test::add_run(s, s.root, to, limb_radius, 15);
+  return s;
+}
+
+double lowest_z(const TreeMesh& mesh) {
+  double z = 1e300;
+  for (auto v : mesh.vertices()) z = std::min(z, static_cast<double>(mesh.point(v)[2]));
+  return z;
+}
+
+// The join at a root with several branches is closed there by a flat base across the trunk, as a
+// root with one branch is: the rings alone stood the tree on their hull, above its base.
+TEST(SweepMesh, ATreeWhoseRootIsAForkStandsOnItsBase) {
+  for (const auto& limbs : {std::vector<Eigen::Vector3d>{{1.5, 0, 1.5}},
+                            std::vector<Eigen::Vector3d>{{1.5, 0, 1.5}, {-0.5, 1.0, 1.5}, {0, -1.5, 1.2}}}) {
+    SCOPED_TRACE(limbs.size());
+    const TreeMesh mesh = sweep_mesh(forked_base(limbs, 0.05), {});
+    expect_valid(mesh);
+    EXPECT_NEAR(lowest_z(mesh), 0.0, 1e-9);
+    // The base is the trunk's: its widest points 0.1 from the axis, none below the root.
+    std::size_t at_base = 0;
+    for (auto v : mesh.vertices())
+      if (std::abs(mesh.point(v)[2]) < 1e-9) {
+        ++at_base;
+        EXPECT_NEAR(std::hypot(mesh.point(v)[0], mesh.point(v)[1]), 0.1, 0.002);
+      }
+    EXPECT_GE(at_base, 6u);
+  }
+  // A limb leaving below the root's plane leaves no room for a base there: the rings close the
+  // join as before, and the mesh is as valid.
+  const TreeMesh low = sweep_mesh(forked_base({{1.5, 0, -0.3}}, 0.05), {});
+  expect_valid(low);
+  EXPECT_LT(lowest_z(low), 0.0);
+}
+
 TEST(SweepMesh, PaperTreesGiveValidMeshes) {
   for (int index = 1; index <= 6; ++index) {
     Skeleton s = eval::make_paper_tree(index, 1).skeleton;
