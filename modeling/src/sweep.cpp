@@ -140,6 +140,22 @@ class Builder {
       for (NodeId v = 0; v < n; ++v)
         if (is_junction_[v] && !(t_.chain_of[v] >= 0 && absorbed_[static_cast<std::size_t>(t_.chain_of[v])]))
           clusters_[uf.find(v)].nodes.push_back(v);
+      // A fork merged into another's join whose own branches have all been left out since is a fork
+      // no longer: the chain to it ends there in a tip. The merged hull holds no ring at it, and the
+      // chain went with it (0.39 m of AdTree's Lille_2, and the limbs swept apart from its end hung
+      // in the air, apart from the tree).
+      std::vector<std::size_t> unforked;
+      for (const auto& [id, cl] : clusters_)
+        if (cl.nodes.size() > 1)
+          for (NodeId v : cl.nodes)
+            if (bare(v)) {
+              is_junction_[v] = false;
+              unforked.push_back(v);
+            }
+      if (!unforked.empty()) {
+        refresh(settled, unforked);
+        continue;
+      }
       collect_arms(uf);
       bool changed = false;
       std::vector<std::size_t> dirty;
@@ -436,6 +452,14 @@ class Builder {
     }
     for (std::size_t d : chains) touched.insert(touched.end(), {t_.chains[d].nodes.front(), t_.chains[d].nodes.back()});
     return true;
+  }
+
+  /// Whether every branch leaving fork `v` has been left out of this sweep (swept apart, or inside a
+  /// join).
+  bool bare(NodeId v) const {
+    if (v == sk_.root || t_.chain_of[v] < 0) return false;
+    const auto& leaving = t_.chains[static_cast<std::size_t>(t_.chain_of[v])].children;
+    return std::all_of(leaving.begin(), leaving.end(), [&](std::size_t c) { return absorbed_[c]; });
   }
 
   /// Leaves chain `c` and all it carries out of this sweep, for `sweep_mesh` to sweep apart and
