@@ -486,8 +486,10 @@ class Builder {
   struct Join {
     std::vector<Ring> rings;
     std::vector<std::size_t> first_vertex;
-    std::vector<std::pair<Vector3d, std::size_t>> apex;
-    std::size_t optional = 0;  // the last points of `apex` may be left inside the hull (see hull_faces)
+    /// Points of the hull besides the rings' (a cone's apex where one arm is left; the root's base),
+    /// with their vertex ids; the last `optional` of them may be left inside it (see hull_faces).
+    std::vector<std::pair<Vector3d, std::size_t>> points;
+    std::size_t optional = 0;
     NodeId top = 0;
     double radius = 0.0;
   };
@@ -538,7 +540,7 @@ class Builder {
       if (cl.arms.size() == 1 && !based) {  // every other arm left inside: a cone closes the branch
         const auto [ring, outward] = arm_ring(cl.arms.front(), cl.arms.front().d);
         vertices.push_back(ring.centre - outward * std::max(0.25 * ring.radius, cl.arms.front().d));
-        join.apex.emplace_back(vertices.back(), vertices.size() - 1);
+        join.points.emplace_back(vertices.back(), vertices.size() - 1);
       }
       joins.push_back(std::move(join));
     }
@@ -609,7 +611,7 @@ class Builder {
     if (!attempt.shrink.empty()) return;
     for (const Join& join : joins) {
       begin_part(join.first_vertex, {});
-      hull_faces(join.rings, join.first_vertex, join.apex, join.optional, join.top, join.radius, add_face, attempt);
+      hull_faces(join.rings, join.first_vertex, join.points, join.optional, join.top, join.radius, add_face, attempt);
     }
     for (const Tube& tube : tubes) {
       const std::ptrdiff_t tube_id = static_cast<std::ptrdiff_t>(attempt.tube_parts.size());
@@ -658,7 +660,7 @@ class Builder {
   /// swept apart from the root then hangs beneath the tree, apart from it. The base is that branch's
   /// ring (without a neck) at the root, across the branch, where it lies wholly behind every ring's
   /// plane, so that each ring stays a face of the hull; else a narrower one, else the root alone; else
-  /// none (a ring leaning over the root). Its points are optional points of `join.apex`: those the
+  /// none (a ring leaning over the root). Its points are optional points of `join.points`: those the
   /// hull leaves inside it (where a ring dips below the base) are left out.
   bool add_base(const Cluster& cl, Join& join, std::vector<Vector3d>& vertices) const {
     // The thickest branch, by its radius without the neck its ring may have at a narrow fork.
@@ -677,7 +679,7 @@ class Builder {
       if (!behind_rings(cl, base)) continue;
       for (int k = 0; k < (share > 0.0 ? base.sides : 1); ++k) {
         vertices.push_back(share > 0.0 ? base.vertex(k) : base.centre);
-        join.apex.emplace_back(vertices.back(), vertices.size() - 1);
+        join.points.emplace_back(vertices.back(), vertices.size() - 1);
         ++join.optional;
       }
       return true;
