@@ -195,8 +195,8 @@ Pairs crossings_in(const TreeMesh& mesh, const Eigen::Vector3d& offset, const st
 /// Sweeps pieces and unites them with a mesh (see add_pieces).
 class Uniter {
  public:
-  Uniter(const SweepOptions& options, double extent, const Eigen::Vector3d& frame, double floor_radius, SweepStats& st)
-      : o_(options), extent_(extent), frame_(frame), floor_(floor_radius), st_(st) {}
+  Uniter(const SweepOptions& options, double extent, const Eigen::Vector3d& frame, const TreeScale& scale, SweepStats& st)
+      : o_(options), extent_(extent), frame_(frame), scale_(scale), st_(st) {}
 
   /// Sweeps `first` on its own into `out`, and each piece its sweep leaves apart; a piece that does
   /// not sweep is split until its parts do. (A loop, not a recursion: a crowded crown can leave
@@ -214,7 +214,7 @@ class Uniter {
       std::vector<Skeleton> apart;
       Skeleton kept;
       try {
-        TreeMesh mesh = sweep_part(piece, o_, frame_, floor_, piece_stats, apart, &kept);
+        TreeMesh mesh = sweep_part(piece, o_, frame_, scale_, piece_stats, apart, &kept);
         if (o_.repair && piece_stats.self_intersections > 0) throw Error("the piece crosses itself");
         // A sweep that kept no segment, or left apart a piece as large as this one, made no
         // progress (the loop would sweep the same piece again and again): split it instead.
@@ -324,7 +324,7 @@ class Uniter {
   const SweepOptions& o_;
   double extent_;
   Eigen::Vector3d frame_;
-  double floor_;
+  TreeScale scale_;
   SweepStats& st_;
   std::size_t swept_ = 0, unions_ = 0;
   std::vector<TreeMesh> apart_;  // the pieces the unions refused
@@ -405,8 +405,8 @@ std::vector<Skeleton> split_piece(const Skeleton& piece) {
 }
 
 TreeMesh add_pieces(TreeMesh mesh, const std::vector<Skeleton>& pieces, const SweepOptions& options,
-                    const Eigen::Vector3d& frame, double floor_radius, SweepStats& st) {
-  Uniter uniter(options, bounding_box(mesh).sizes().maxCoeff(), frame, floor_radius, st);
+                    const Eigen::Vector3d& frame, const TreeScale& scale, SweepStats& st) {
+  Uniter uniter(options, bounding_box(mesh).sizes().maxCoeff(), frame, scale, st);
   std::vector<Piece> swept;
   for (const auto& piece : pieces) uniter.sweep(piece, swept);
   TreeMesh united = uniter.unite(mesh, std::move(swept));

@@ -17,6 +17,19 @@ namespace treeskel::modeling::detail {
 /// 32-bit floats would round it by more than 1e-5 of the tree's size (then local, zero).
 Eigen::Vector3d file_frame(const Skeleton& skeleton);
 
+/// What every piece of a tree keeps of the whole tree when it is swept on its own.
+struct TreeScale {
+  /// Radii under it are raised to it (see `sweep_in_frame`).
+  double floor_radius = 0.0;
+  /// A branch that starts at least this thick is a limb (`max_drop_radius` of the tree's thickest
+  /// radius): it is thinned further than a twig before it is swept apart, and where the joins at both
+  /// its ends cannot fit, its forks share a hull. Taken from a piece's own thickest branch instead,
+  /// every twig of a piece of twigs was a limb: forks 0.4 m apart shared a hull that passed the fork
+  /// between them by, and the limbs swept apart from that fork lay beside the tree (TreeLS's spruce,
+  /// LPine1's tree 11).
+  double limb_radius = 0.0;
+};
+
 /// `sweep_mesh` with the frame files hold and the floor radius given (a piece of a tree is checked
 /// in the tree's frame and keeps the tree's floor; a negative floor: `min_relative_radius` of the
 /// thickest radius or `min_extent_radius` of the extent, the larger). A branch the repair would
@@ -24,12 +37,12 @@ Eigen::Vector3d file_frame(const Skeleton& skeleton);
 TreeMesh sweep_in_frame(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,
                         double floor_radius, SweepStats* stats);
 
-/// The sweep of what of `skeleton` fits together (radii under `floor_radius` raised to it); the
+/// The sweep of what of `skeleton` fits together (radii under the floor raised to it); the
 /// branches a join or a crossing left no room for are appended to `apart` (each as `piece_of` cuts
 /// it, with all it carries), not swept, and `kept` (if given) receives the skeleton the mesh is of.
 /// With `unite_apart` off they are counted in `pieces_failed` instead.
 TreeMesh sweep_part(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,
-                    double floor_radius, SweepStats& st, std::vector<Skeleton>& apart, Skeleton* kept);
+                    const TreeScale& scale, SweepStats& st, std::vector<Skeleton>& apart, Skeleton* kept);
 
 /// Adds to `to` the counts of `from` (a piece's sweep) that add up over pieces.
 void add_counts(SweepStats& to, const SweepStats& from);
@@ -53,6 +66,6 @@ std::vector<Skeleton> split_piece(const Skeleton& piece);
 /// united without one is split and its parts united, down to single segments; those are counted in
 /// `pieces_failed`.
 TreeMesh add_pieces(TreeMesh mesh, const std::vector<Skeleton>& pieces, const SweepOptions& options,
-                    const Eigen::Vector3d& frame, double floor_radius, SweepStats& st);
+                    const Eigen::Vector3d& frame, const TreeScale& scale, SweepStats& st);
 
 }  // namespace treeskel::modeling::detail

@@ -88,7 +88,9 @@ class Builder {
   /// triangles as positions in that list (none when some point was not on the hull).
   using HullCache = std::map<std::vector<double>, std::optional<std::vector<std::array<std::size_t, 3>>>>;
 
-  Builder(const Skeleton& sk, const SweepOptions& o, HullCache& hulls) : sk_(sk), o_(o), t_(build_chains(sk)), hulls_(&hulls) {}
+  /// `limb_radius`: see TreeScale.
+  Builder(const Skeleton& sk, const SweepOptions& o, HullCache& hulls, double limb_radius)
+      : sk_(sk), o_(o), t_(build_chains(sk)), hulls_(&hulls), limb_radius_(limb_radius) {}
 
   Attempt run() {
     const auto& g = sk_.graph;
@@ -437,7 +439,7 @@ class Builder {
   /// thinned as far as it may be (its forks are then merged).
   bool thin_or_drop(std::size_t c, Attempt& attempt, std::vector<std::size_t>& touched) {
     const auto chains = carried_chains(c);
-    const bool limb = lines_[c].r.front() >= o_.max_drop_radius * max_radius_;
+    const bool limb = lines_[c].r.front() >= limb_radius_;
     if (thinned_[c] < o_.max_shrinks) {
       ++thinned_[c];
       ++attempt.thinned;
@@ -780,6 +782,7 @@ class Builder {
   std::vector<bool> is_junction_;
   std::vector<int> thinned_;  // per chain: times thinned in this build
   double max_radius_ = 0.0;
+  double limb_radius_ = 0.0;
   std::vector<bool> absorbed_;  // per chain: a twig left inside its join's hull
   std::vector<std::array<double, 2>> ring_neck_;  // per chain: neck factor of those rings
   std::vector<std::array<double, 2>> ring_d_;  // per chain: ring distance from its start's join, its end's join
@@ -914,8 +917,9 @@ std::optional<double> clearing_factor(const Attempt& attempt, std::size_t x, std
 /// Sweeps what of `skeleton` fits together into one valid mesh. Subtrees that a join or a crossing
 /// left no room for are not swept here: their nodes go to `detached`, for `sweep_mesh` to sweep
 /// apart and unite with this mesh.
-TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, const Vector3d& frame, double floor_radius,
+TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, const Vector3d& frame, const detail::TreeScale& whole,
                         SweepStats& st, std::vector<NodeId>& detached) {
+  const double floor_radius = whole.floor_radius;
   const ChainTree tree = build_chains(skeleton);
   const auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
@@ -974,7 +978,7 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
       for (NodeId top : tops)
         for (NodeId v : subtree(pt.children, top)) detached.push_back(ids[v]);
     };
-    Builder builder(pruned, options, hulls);
+    Builder builder(pruned, options, hulls, whole.limb_radius);
     Attempt a = builder.run();
     st.branches = a.branches;
     st.junctions = a.junctions;
@@ -986,7 +990,7 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
     // for a limb), then leaves it out (a limb is down to 0.7^6 = 12% of its radius by then); false
     // when nothing changed (the trunk, which may not go, at its floor).
     auto thin_or_drop = [&](NodeId top, double factor) {
-      const bool limb = g[top].radius >= options.max_drop_radius * max_radius;
+      const bool limb = g[top].radius >= whole.limb_radius;
       const int budget = (limb && !is_base(top) ? 2 : 1) * options.max_shrinks;
       const double floor = std::pow(options.repair_shrink, budget);
       const bool at_floor = own_scale[top] <= floor * (1.0 + 1e-9);
@@ -1117,7 +1121,7 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
 }
 
 TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,
-                            double floor_radius, SweepStats& st, std::vector<Skeleton>& apart, Skeleton* kept) {
+                            const TreeScale& scale, SweepStats& st, std::vector<Skeleton>& apart, Skeleton* kept) {
   const ChainTree tree = build_chains(skeleton);
   const auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
@@ -1131,7 +1135,7 @@ TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& option
   }
 
   // The sweep needs positions, radii and edges only; radii under the floor are raised to it.
-  const double floor = floor_radius;
+  const double floor = scale.floor_radius;
   Skeleton shape;
   shape.root = skeleton.root;
   shape.offset = skeleton.offset;
@@ -1150,7 +1154,7 @@ TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& option
   o.min_relative_radius = 0.0;  // applied above, once for the whole tree
 
   std::vector<NodeId> detached;
-  TreeMesh mesh = sweep_attached(shape, o, frame, floor, st, detached);
+  TreeMesh mesh = sweep_attached(shape, o, frame, scale, st, detached);
   if (!detached.empty() && !options.unite_apart) {
     std::vector<bool> cut(n, false);
     for (NodeId v : detached) cut[v] = true;
@@ -1189,20 +1193,20 @@ TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& option
 
 TreeMesh detail::sweep_in_frame(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,
                                 double floor_radius, SweepStats* stats) {
-  if (floor_radius < 0.0) {
-    // Raised to the floor: a share of the thickest radius, or of the tree's extent.
-    double max_radius = 0.0;
-    Eigen::AlignedBox3d box;
-    for (NodeId v = 0; v < skeleton.node_count(); ++v) {
-      if (std::isfinite(skeleton[v].radius)) max_radius = std::max(max_radius, skeleton[v].radius);
-      box.extend(skeleton[v].position);
-    }
-    floor_radius = std::max(options.min_relative_radius * max_radius, options.min_extent_radius * box.sizes().maxCoeff());
+  double max_radius = 0.0;
+  Eigen::AlignedBox3d box;
+  for (NodeId v = 0; v < skeleton.node_count(); ++v) {
+    if (std::isfinite(skeleton[v].radius)) max_radius = std::max(max_radius, skeleton[v].radius);
+    box.extend(skeleton[v].position);
   }
+  // Raised to the floor: a share of the thickest radius, or of the tree's extent.
+  if (floor_radius < 0.0)
+    floor_radius = std::max(options.min_relative_radius * max_radius, options.min_extent_radius * box.sizes().maxCoeff());
+  const TreeScale scale{floor_radius, options.max_drop_radius * std::max(max_radius, floor_radius)};
   SweepStats st;
   std::vector<Skeleton> apart;
-  TreeMesh mesh = sweep_part(skeleton, options, frame, floor_radius, st, apart, nullptr);
-  if (!apart.empty()) mesh = add_pieces(std::move(mesh), apart, options, frame, floor_radius, st);
+  TreeMesh mesh = sweep_part(skeleton, options, frame, scale, st, apart, nullptr);
+  if (!apart.empty()) mesh = add_pieces(std::move(mesh), apart, options, frame, scale, st);
   if (stats) *stats = st;
   return mesh;
 }
