@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -145,6 +146,36 @@ TEST(Pieces, FileFrameIsLocalOnlyWhereFloatsWouldRoundTheTree) {
   EXPECT_EQ(file_frame(s), s.offset);
   s.offset = Eigen::Vector3d(600000.0, 5200000.0, 300.0);
   EXPECT_EQ(file_frame(s), Eigen::Vector3d::Zero());
+}
+
+// A piece of a tree tells its limbs by the whole tree's trunk (TreeScale::limb_radius), not by its
+// own thickest branch: two branches whose axes cross cannot be cleared by thinning, and the thinner
+// one goes apart after a twig's thinnings when the tree's trunk is far thicker than the piece, after
+// a limb's when it is not.
+TEST(Pieces, APieceTellsItsLimbsByTheWholeTree) {
+  Skeleton s = test::straight(1.0, 0.1, 10);
+  const NodeId low = static_cast<NodeId>(s.node_count() - 1);
+  const NodeId high = test::add_run(s, low, Eigen::Vector3d(0, 0, 2), 0.1, 10);
+  test::add_run(s, high, Eigen::Vector3d(0, 0, 2.6), 0.08, 6);
+  test::add_run(s, low, Eigen::Vector3d(1.5, 0, 1.0), 0.05, 15);
+  test::add_run(s, high, Eigen::Vector3d(1.0, 0, 0.5), 0.04, 15);  // through the first one's axis
+  const SweepOptions o;
+  std::array<std::size_t, 2> thinned{};
+  for (const int whole : {0, 1}) {
+    SCOPED_TRACE(whole);
+    const double trunk = whole ? 1.0 : 0.1;  // the piece's own trunk, or a tree's ten times thicker
+    SweepStats st;
+    std::vector<Skeleton> apart;
+    const TreeMesh mesh = sweep_part(s, o, Eigen::Vector3d::Zero(), {1e-4, o.max_drop_radius * trunk}, st, apart, nullptr);
+    EXPECT_GT(mesh.n_faces(), 0u);
+    EXPECT_EQ(st.self_intersections, 0u);
+    EXPECT_EQ(st.repaired_dropped, 1u);
+    ASSERT_EQ(apart.size(), 1u);
+    EXPECT_NEAR(apart.front()[apart.front().root].position.z(), 2.0, 0.11);  // from the high fork
+    thinned[static_cast<std::size_t>(whole)] = st.repaired_shrunk;
+  }
+  EXPECT_GT(thinned[0], static_cast<std::size_t>(o.max_shrinks));   // a limb of its piece
+  EXPECT_LE(thinned[1], static_cast<std::size_t>(o.max_shrinks));   // a twig of the tree
 }
 
 }  // namespace
