@@ -15,6 +15,9 @@ namespace {
 
 using Eigen::Vector3d;
 
+/// How far, in fork radii, a piece's stub follows its parent's path back from the fork.
+constexpr double kStubReach = 4.0;
+
 /// Distance from `p` to the polyline through `nodes`.
 double distance_to_polyline(const Skeleton& sk, const std::vector<NodeId>& nodes, const Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();
@@ -120,24 +123,63 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top) {
   add(chain.front(), skeleton[chain[1]].radius);
   piece.root = id[chain.front()];
   // The fork may lie outside its join's hull (between rings set far apart at a narrow fork): the
-  // piece starts a little further back, on the parent's axis, which the parent's tube holds. That
-  // stub is at most half as thick as the parent: as thick as the branch, a branch as thick as its
+  // piece starts further back, along the parent's path, which the parent's tube holds. That stub
+  // is at most half as thick as the parent: as thick as the branch, a branch as thick as its
   // parent made a tube a fraction of a millimetre inside the parent's, and corefinement crawled
   // through every near-touching pair of their faces in exact arithmetic (11 of the 16 s of a pine
-  // of the LPine1 plot, in one union).
+  // of the LPine1 plot, in one union). It follows the parent's path for `kStubReach` fork radii:
+  // one radius straight back left the pieces of narrow forks outside the parent's tube when the
+  // parent bent, and the union had nothing to join them to.
   const NodeId fork = chain.front();
   // Toward the parent, or at a root with several branches, toward the thickest other one.
   NodeId toward = tree.parent[fork];
-  if (toward == fork)
+  const bool down = toward == fork;
+  if (down)
     for (NodeId c : tree.children[fork])
       if (c != chain[1] && (toward == fork || skeleton[c].radius > skeleton[toward].radius)) toward = c;
   if (toward != fork) {
-    const Vector3d back = skeleton[toward].position - skeleton[fork].position;
-    const double reach = std::min(back.norm(), skeleton[fork].radius);
-    if (reach > 0.0) {
+    // Up the parent's path; at a root, one fork radius straight toward the other branch (following
+    // it further down set A3B4's pieces beside its stem).
+    auto next_of = [&](NodeId v) { return down ? v : tree.parent[v]; };
+    const double length = (down ? 1.0 : kStubReach) * skeleton[fork].radius;
+    double radius = std::min(skeleton[chain[1]].radius, 0.5 * std::min(skeleton[fork].radius, skeleton[toward].radius));
+    std::vector<Vector3d> path;  // from the fork back
+    double walked = 0.0;
+    Vector3d reached = skeleton[fork].position;
+    const double enough = length * (1.0 - 1e-9);  // no sliver of a step for a rounding error
+    // Not past the fork below: the stub stays on the parent's own branch.
+    auto goes_on = [&](NodeId at, NodeId next) {
+      return next != at && walked < enough && (at == fork || tree.children[at].size() == 1);
+    };
+    for (NodeId at = fork, next = toward; goes_on(at, next); at = next, next = next_of(at)) {
+      const Vector3d step = skeleton[next].position - skeleton[at].position;
+      const double step_length = step.norm();
+      if (step_length <= 0.0) continue;
+      radius = std::min(radius, 0.5 * skeleton[next].radius);
+      const double take = std::min(step_length, length - walked);
+      walked += take;
+      reached = skeleton[at].position + step * (take / step_length);
+      // No ring closer to the fork than its radius: a thin ring just behind the branch's first
+      // (thick) one, at an angle, crossed it and the branch's rings up to the next fork went.
+      if (walked >= skeleton[fork].radius) path.push_back(reached);
+    }
+    if (path.empty() && walked > 0.0) path.push_back(reached);  // the fork below is nearer
+    // A branch that turns back over its parent by more than 120 degrees from the stub keeps the stub
+    // of one radius straight back: the tube drops such a turn (see tube.h), and from a long stub it
+    // cut straight to the branch (a fin beside a limb of AdTree's tree1).
+    const Vector3d& at_fork = skeleton[fork].position;
+    Vector3d ahead = Vector3d::Zero();
+    for (std::size_t i = 1; i < chain.size() && ahead.norm() < skeleton[fork].radius; ++i)
+      ahead = skeleton[chain[i]].position - at_fork;
+    const Vector3d from_stub = path.empty() ? Vector3d::Zero() : Vector3d(at_fork - path.front());
+    if (from_stub.dot(ahead) < -0.5 * from_stub.norm() * ahead.norm()) {
+      const Vector3d back = skeleton[toward].position - at_fork;
+      path.assign(1, at_fork + back.normalized() * std::min(back.norm(), skeleton[fork].radius));
+    }
+    for (const Vector3d& position : path) {
       SkeletonNode node;
-      node.position = skeleton[fork].position + back.normalized() * reach;
-      node.radius = std::min(skeleton[chain[1]].radius, 0.5 * std::min(skeleton[fork].radius, skeleton[toward].radius));
+      node.position = position;
+      node.radius = radius;
       const NodeId stub = add_node(piece, node);
       boost::add_edge(stub, piece.root, piece.graph);
       piece.root = stub;

@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 namespace treeskel::modeling::detail {
 namespace {
 
@@ -32,19 +36,57 @@ TEST(SkeletonParts, PathOfCopiesPositionsAndRadiiInOrder) {
   }
 }
 
-// A piece starts at the fork its branch leaves, with the branch's first radius there, and one fork
-// radius further back along the parent's axis (a narrow fork can lie outside its own join's hull;
-// the parent's tube holds that stub). The stub is at most half as thick as the parent: a stub as
+/// Distance from `p` to the polyline through the positions of `nodes` of `s`.
+double off_path(const Skeleton& s, const std::vector<NodeId>& nodes, const Eigen::Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
+    const Eigen::Vector3d a = s[nodes[i]].position, d = s[nodes[i + 1]].position - a;
+    const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    best = std::min(best, (a + t * d - p).norm());
+  }
+  return best;
+}
+
+/// The stub's nodes from the root up to (not with) the node at `fork_position`, and its length.
+std::vector<NodeId> stub_of(const Skeleton& piece, const Eigen::Vector3d& fork_position, double& length) {
+  std::vector<NodeId> stub{piece.root};
+  length = 0.0;
+  for (NodeId v = piece.root; piece[v].position != fork_position;) {
+    NodeId next = v;
+    for (auto e : boost::make_iterator_range(boost::out_edges(v, piece.graph))) {
+      const NodeId w = boost::target(e, piece.graph);
+      if (stub.size() < 2 || w != stub[stub.size() - 2]) next = w;
+    }
+    if (next == v) break;
+    length += (piece[next].position - piece[v].position).norm();
+    v = next;
+    if (piece[v].position != fork_position) stub.push_back(v);
+  }
+  return stub;
+}
+
+// A piece starts at the fork its branch leaves, with the branch's first radius there, and a stub
+// four fork radii back along the parent's path (a narrow fork can lie outside its own join's hull;
+// the parent's tube holds the stub). The stub is at most half as thick as the parent: a stub as
 // thick as the parent lay a hair inside its tube, which made the union crawl.
-TEST(SkeletonParts, PieceOfAThickArmStartsBehindItsForkWithAStubHalfTheParentsRadius) {
+TEST(SkeletonParts, PieceOfAThickArmStartsFourForkRadiiBackWithAStubHalfTheParentsRadius) {
   const Skeleton s = test::y_shape(0.05, 0.6, 20);
   ASSERT_GT(s[21].radius, 0.5 * s[20].radius);  // arms thicker than half the trunk
   const ChainTree tree = build_chains(s);
   const Skeleton piece = piece_of(s, tree, 30);  // any node of the first arm
-  EXPECT_EQ(piece.node_count(), 22u);           // the stub, the fork and the arm's 20 nodes
+  // The stub's four nodes (the trunk's nodes are 0.05 apart: none closer to the fork than its
+  // radius), the fork and the arm's 20 nodes.
+  EXPECT_EQ(piece.node_count(), 25u);
   EXPECT_TRUE(is_tree(piece.graph));
-  EXPECT_TRUE(piece[piece.root].position.isApprox(s[20].position - Eigen::Vector3d(0, 0, s[20].radius), 1e-12));
-  EXPECT_DOUBLE_EQ(piece[piece.root].radius, 0.5 * s[20].radius);
+  EXPECT_TRUE(piece[piece.root].position.isApprox(s[20].position - Eigen::Vector3d(0, 0, 4 * s[20].radius), 1e-12));
+  double length = 0.0;
+  const std::vector<NodeId> stub = stub_of(piece, s[20].position, length);
+  EXPECT_EQ(stub.size(), 4u);
+  EXPECT_NEAR(length, 4 * s[20].radius, 1e-12);
+  for (NodeId v : stub) {
+    EXPECT_DOUBLE_EQ(piece[v].radius, 0.5 * s[20].radius);
+    EXPECT_LT(piece[v].position.head<2>().norm(), 1e-12);  // on the trunk's axis
+  }
   // The fork itself follows the stub, with the arm's radius.
   bool fork_found = false;
   for (NodeId v = 0; v < piece.node_count(); ++v)
@@ -63,9 +105,65 @@ TEST(SkeletonParts, PieceOfAThinArmHasAStubAsThickAsTheArm) {
   const NodeId first = test::add_run(s, fork, Eigen::Vector3d(0.025, 0, 1.025), 0.01, 1);  // thin from the start
   const NodeId tip = test::add_run(s, first, Eigen::Vector3d(0.5, 0, 1.5), 0.01, 19);
   const Skeleton piece = piece_of(s, build_chains(s), tip);
-  EXPECT_EQ(piece.node_count(), 22u);
+  EXPECT_EQ(piece.node_count(), 25u);
   EXPECT_DOUBLE_EQ(piece[piece.root].radius, 0.01);
+  EXPECT_TRUE(piece[piece.root].position.isApprox(s[fork].position - Eigen::Vector3d(0, 0, 4 * s[fork].radius), 1e-12));
+}
+
+// Where the parent bends below the fork, the stub bends with it and stays on its axis: a stub
+// straight back would leave the parent's tube, and the piece would have nothing to be joined to.
+TEST(SkeletonParts, AStubFollowsTheParentWhereItBends) {
+  Skeleton s = test::straight(1.0, 0.05, 20);
+  const NodeId bend = static_cast<NodeId>(s.node_count() - 1);
+  const NodeId fork = test::add_run(s, bend, Eigen::Vector3d(0.1, 0, 1.0), 0.05, 4);  // 0.1 m across
+  test::add_run(s, fork, Eigen::Vector3d(0.1, 0, 2.0), 0.045, 20);
+  const NodeId tip = test::add_run(s, fork, Eigen::Vector3d(0.6, 0, 1.5), 0.02, 20);
+  const Skeleton piece = piece_of(s, build_chains(s), tip);
+  EXPECT_TRUE(is_tree(piece.graph));
+  double length = 0.0;
+  const std::vector<NodeId> stub = stub_of(piece, s[fork].position, length);
+  EXPECT_NEAR(length, 4 * s[fork].radius, 1e-9);
+  const ChainTree tree = build_chains(s);
+  std::vector<NodeId> parent{fork};
+  for (NodeId v = fork; v != s.root;) parent.push_back(v = tree.parent[v]);
+  for (NodeId v : stub) EXPECT_LT(off_path(s, parent, piece[v].position), 1e-9);
+  // It went round the bend: its root is below the horizontal run.
+  EXPECT_NEAR(piece[piece.root].position.z(), 0.9, 1e-9);
+  EXPECT_NEAR(piece[piece.root].position.x(), 0.0, 1e-9);
+}
+
+// The stub stays on the parent's own branch: it ends at the fork below when that is nearer than
+// four radii.
+TEST(SkeletonParts, AStubEndsAtTheForkBelow) {
+  Skeleton s = test::straight(1.0, 0.05, 20);
+  const NodeId lower = static_cast<NodeId>(s.node_count() - 1);
+  test::add_run(s, lower, Eigen::Vector3d(0.5, 0, 1.3), 0.02, 10);            // a side branch at z = 1
+  const NodeId fork = test::add_run(s, lower, Eigen::Vector3d(0, 0, 1.1), 0.05, 2);  // 0.1 m up: the fork
+  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2.0), 0.045, 20);
+  const NodeId tip = test::add_run(s, fork, Eigen::Vector3d(-0.5, 0, 1.6), 0.02, 20);
+  const Skeleton piece = piece_of(s, build_chains(s), tip);
+  EXPECT_TRUE(piece[piece.root].position.isApprox(s[lower].position, 1e-12));
+}
+
+// A branch that turns back over its parent (here 150 degrees from the stub's way) keeps a stub one
+// radius straight back: the tube drops a turn over 120 degrees, and from a long stub it would cut
+// straight from the stub to the branch.
+TEST(SkeletonParts, ABranchThatTurnsBackOverItsParentKeepsAStubOfOneRadius) {
+  Skeleton s = test::straight(1.0, 0.05, 20);
+  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
+  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
+  const double back = 150.0 * M_PI / 180.0;
+  const NodeId tip = test::add_run(s, fork, Eigen::Vector3d(std::sin(back), 0, 1 + std::cos(back)), 0.02, 20);
+  const Skeleton piece = piece_of(s, build_chains(s), tip);
+  EXPECT_EQ(piece.node_count(), 22u);  // one stub node, the fork, the branch's 20
   EXPECT_TRUE(piece[piece.root].position.isApprox(s[fork].position - Eigen::Vector3d(0, 0, s[fork].radius), 1e-12));
+  // 110 degrees: the long stub.
+  Skeleton t = test::straight(1.0, 0.05, 20);
+  test::add_run(t, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
+  const double less = 110.0 * M_PI / 180.0;
+  const NodeId other = test::add_run(t, fork, Eigen::Vector3d(std::sin(less), 0, 1 + std::cos(less)), 0.02, 20);
+  const Skeleton long_stub = piece_of(t, build_chains(t), other);
+  EXPECT_TRUE(long_stub[long_stub.root].position.isApprox(s[fork].position - Eigen::Vector3d(0, 0, 4 * s[fork].radius), 1e-12));
 }
 
 TEST(SkeletonParts, ANarrowBranchIsReattachedWhereItLeavesTheThickerOne) {
