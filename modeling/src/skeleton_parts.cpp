@@ -128,8 +128,8 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top) {
   // parent made a tube a fraction of a millimetre inside the parent's, and corefinement crawled
   // through every near-touching pair of their faces in exact arithmetic (11 of the 16 s of a pine
   // of the LPine1 plot, in one union). It follows the parent's path for `kStubReach` fork radii:
-  // one radius straight back left the pieces of narrow forks outside the parent's tube when the
-  // parent bent, and the union had nothing to join them to.
+  // a stub straight back to the parent's next node (at most one radius) left the pieces of narrow
+  // forks outside the parent's tube when the parent bent, and the union had nothing to join.
   const NodeId fork = chain.front();
   // Toward the parent, or at a root with several branches, toward the thickest other one.
   NodeId toward = tree.parent[fork];
@@ -138,8 +138,8 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top) {
     for (NodeId c : tree.children[fork])
       if (c != chain[1] && (toward == fork || skeleton[c].radius > skeleton[toward].radius)) toward = c;
   if (toward != fork) {
-    // Up the parent's path; at a root, one fork radius straight toward the other branch (following
-    // it further down set A3B4's pieces beside its stem).
+    // Up the parent's path; at a root, straight toward the other branch's next node, at most one
+    // fork radius (following that branch further down set A3B4's pieces beside its stem).
     auto next_of = [&](NodeId v) { return down ? v : tree.parent[v]; };
     const double length = (down ? 1.0 : kStubReach) * skeleton[fork].radius;
     double radius = std::min(skeleton[chain[1]].radius, 0.5 * std::min(skeleton[fork].radius, skeleton[toward].radius));
@@ -164,9 +164,10 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top) {
       if (walked >= skeleton[fork].radius) path.push_back(reached);
     }
     if (path.empty() && walked > 0.0) path.push_back(reached);  // the fork below is nearer
-    // A branch that turns back over its parent by more than 120 degrees from the stub keeps the stub
-    // of one radius straight back: the tube drops such a turn (see tube.h), and from a long stub it
-    // cut straight to the branch (a fin beside a limb of AdTree's tree1).
+    // A branch that turns back over its parent by more than 120 degrees from the stub keeps the short
+    // stub (straight back to the parent's next node, at most one radius): the tube drops such a turn
+    // (see tube.h), and from a long stub it cut straight to the branch (a fin beside a limb of
+    // AdTree's tree1).
     const Vector3d& at_fork = skeleton[fork].position;
     Vector3d ahead = Vector3d::Zero();
     for (std::size_t i = 1; i < chain.size() && ahead.norm() < skeleton[fork].radius; ++i)

@@ -25,9 +25,9 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
 /// skeleton of its own. The fork is its root and takes the branch's first radius, so that the piece
 /// starts inside the parent it hangs from (a branch re-attached where it left a thicker one gets back
 /// its hidden base here). Below the fork, a stub follows the parent's path back four fork radii, not
-/// past the fork below, at most half as thick as the parent; one radius straight back where the
-/// branch turns back over its parent by more than 120 degrees, or at a root with several branches
-/// (toward the thickest other one).
+/// past the fork below, at most half as thick as the parent; straight back to the next node (at
+/// most one radius) where the branch turns back over its parent by more than 120 degrees, or at a
+/// root with several branches (toward the thickest other one).
 Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top);
 
 /// The path through `nodes` of `sk` as a skeleton rooted at its first node.

@@ -145,9 +145,9 @@ TEST(SkeletonParts, AStubEndsAtTheForkBelow) {
   EXPECT_TRUE(piece[piece.root].position.isApprox(s[lower].position, 1e-12));
 }
 
-// A branch that turns back over its parent (here 150 degrees from the stub's way) keeps a stub one
-// radius straight back: the tube drops a turn over 120 degrees, and from a long stub it would cut
-// straight from the stub to the branch.
+// A branch that turns back over its parent (here 150 degrees from the stub's way) keeps the short
+// stub, straight back to the parent's next node (here one radius away): the tube drops a turn over
+// 120 degrees, and from a long stub it would cut straight from the stub to the branch.
 TEST(SkeletonParts, ABranchThatTurnsBackOverItsParentKeepsAStubOfOneRadius) {
   Skeleton s = test::straight(1.0, 0.05, 20);
   const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
