@@ -2,6 +2,7 @@
 // the library), alone.
 #include "../../modeling/src/skeleton_parts.h"
 #include "model_fixtures.h"
+#include "treeskel/geometry.h"
 
 #include <gtest/gtest.h>
 
@@ -39,11 +40,8 @@ TEST(SkeletonParts, PathOfCopiesPositionsAndRadiiInOrder) {
 /// Distance from `p` to the polyline through the positions of `nodes` of `s`.
 double off_path(const Skeleton& s, const std::vector<NodeId>& nodes, const Eigen::Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
-    const Eigen::Vector3d a = s[nodes[i]].position, d = s[nodes[i + 1]].position - a;
-    const double t = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
-    best = std::min(best, (a + t * d - p).norm());
-  }
+  for (std::size_t i = 0; i + 1 < nodes.size(); ++i)
+    best = std::min(best, point_segment_distance(p, s[nodes[i]].position, s[nodes[i + 1]].position));
   return best;
 }
 
