@@ -169,11 +169,9 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top) {
     // (see tube.h), and from a long stub it cut straight to the branch (a fin beside a limb of
     // AdTree's tree1).
     const Vector3d& at_fork = skeleton[fork].position;
-    Vector3d ahead = Vector3d::Zero();
-    for (std::size_t i = 1; i < chain.size() && ahead.norm() < skeleton[fork].radius; ++i)
-      ahead = skeleton[chain[i]].position - at_fork;
+    const Vector3d ahead = direction_along(skeleton, chain, skeleton[fork].radius);
     const Vector3d from_stub = path.empty() ? Vector3d::Zero() : Vector3d(at_fork - path.front());
-    if (from_stub.dot(ahead) < -0.5 * from_stub.norm() * ahead.norm()) {
+    if (from_stub.dot(ahead) < -0.5 * from_stub.norm()) {
       const Vector3d back = skeleton[toward].position - at_fork;
       path.assign(1, at_fork + back.normalized() * std::min(back.norm(), skeleton[fork].radius));
     }
