@@ -137,6 +137,28 @@ class SideOf {
   Tree tree_;
 };
 
+}  // namespace
+
+struct MeshDepth::Tree {
+  using VPM = boost::property_map<TreeMesh, CGAL::vertex_point_t>::const_type;
+  using Faces = CGAL::AABB_tree<CGAL::AABB_traits<GT, CGAL::AABB_face_graph_triangle_primitive<TreeMesh, VPM>>>;
+  explicit Tree(const TreeMesh& mesh) : aabb(faces(mesh).first, faces(mesh).second, mesh) { aabb.accelerate_distance_queries(); }
+  Faces aabb;
+};
+
+MeshDepth::MeshDepth(const TreeMesh& mesh) : tree_(std::make_unique<Tree>(mesh)) {}
+MeshDepth::~MeshDepth() = default;
+
+double MeshDepth::operator()(const Eigen::Vector3d& p) const {
+  if (tree_->aabb.empty()) return -std::numeric_limits<double>::infinity();
+  const GT::Point_3 q(p.x(), p.y(), p.z());
+  const double d = std::sqrt(CGAL::to_double(tree_->aabb.squared_distance(q)));
+  const auto side = CGAL::Side_of_triangle_mesh<TreeMesh, GT, Tree::VPM, Tree::Faces>(tree_->aabb)(q);
+  return side == CGAL::ON_BOUNDED_SIDE ? d : -d;
+}
+
+namespace {
+
 /// Whether two closed pieces cross or one holds the other, as `PMP::do_intersect` with the overlap
 /// test of bounded sides decides it, but with each piece's AABB tree and points built once, not for
 /// every pair tested (on a crowded pine of the LPine1 plot those trees were 8% of its model).

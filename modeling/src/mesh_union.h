@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace treeskel::modeling::detail {
@@ -32,6 +33,22 @@ inline double file_float(double local, double offset) {
   volatile float rounded = static_cast<float>(local + offset);
   return static_cast<double>(rounded);
 }
+
+/// How deep points lie inside a closed mesh (an AABB tree of its faces in doubles, exact side
+/// predicates; built once).
+class MeshDepth {
+ public:
+  explicit MeshDepth(const TreeMesh& mesh);
+  ~MeshDepth();
+  MeshDepth(const MeshDepth&) = delete;
+  MeshDepth& operator=(const MeshDepth&) = delete;
+  /// The distance from `p` to the mesh's surface: positive inside, negative outside.
+  double operator()(const Eigen::Vector3d& p) const;
+
+ private:
+  struct Tree;
+  std::unique_ptr<Tree> tree_;
+};
 
 /// The box of the points of `mesh`.
 Eigen::AlignedBox3d bounding_box(const TreeMesh& mesh);

@@ -17,6 +17,11 @@ using Eigen::Vector3d;
 
 /// How far, in fork radii, a piece's stub follows its parent's path back from the fork.
 constexpr double kStubReach = 4.0;
+/// How many of the parent's nodes the stub of a piece that would not meet the parent's mesh may
+/// follow back to find the mesh.
+constexpr int kStubNodes = 8;
+/// At most this many points along a segment are tested for whether a piece's tube meets a mesh.
+constexpr int kMeetSamples = 32;
 
 /// Distance from `p` to the polyline through `nodes`.
 double distance_to_polyline(const Skeleton& sk, const std::vector<NodeId>& nodes, const Vector3d& p) {
@@ -109,7 +114,7 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
   return compact_nodes(sk, keep);
 }
 
-Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top) {
+Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, const DepthTest& depth) {
   const auto& chain = tree.chains[static_cast<std::size_t>(tree.chain_of[top])].nodes;
   Skeleton piece;
   piece.offset = skeleton.offset;
@@ -174,6 +179,48 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top) {
     if (from_stub.dot(ahead) < -0.5 * from_stub.norm()) {
       const Vector3d back = skeleton[toward].position - at_fork;
       path.assign(1, at_fork + back.normalized() * std::min(back.norm(), skeleton[fork].radius));
+    }
+    // Whether the tube of radius r along a to b meets the mesh `depth` measures (its axis tested at
+    // points half a radius apart).
+    auto segment_meets = [&](const Vector3d& a, const Vector3d& b, double r) {
+      const int steps = std::clamp(static_cast<int>(std::ceil((b - a).norm() / (0.5 * r))), 1, kMeetSamples);
+      for (int i = 0; i <= steps; ++i)
+        if (depth(a + (b - a) * (static_cast<double>(i) / steps)) > -r) return true;
+      return false;
+    };
+    auto meets = [&] {
+      Vector3d last = at_fork;
+      for (const Vector3d& p : path) {
+        if (segment_meets(last, p, radius)) return true;
+        last = p;
+      }
+      for (NodeId v : subtree(tree.children, chain[1]))
+        if (segment_meets(skeleton[tree.parent[v]].position, skeleton[v].position, skeleton[v].radius)) return true;
+      return false;
+    };
+    // The parent's mesh may not reach the fork: its tube cuts across a turn of more than 120
+    // degrees, and a join left out ends the parent's tube short of it. A piece whose tubes then meet
+    // the mesh nowhere (no point of its axis, the stub's included, within its radius of it) was
+    // written beside the tree (a limb of AdTree's Lille_2, at a hook whose tip the parent's tube
+    // cut 5 cm short). Its stub follows the parent's path on, node by node, to the first node that
+    // lies the stub's radius deep in the mesh (not past the fork below); if none within
+    // `kStubNodes` does, it stays as it was. A piece that meets the mesh keeps its stub: from a
+    // longer one, the tube of a branch that turns back cuts across the branch's first segment.
+    if (depth && !down && !path.empty() && !meets()) {
+      std::vector<Vector3d> longer;
+      double thinner = radius;
+      int nodes = 0;
+      for (NodeId at = fork, next = toward; next != at && (at == fork || tree.children[at].size() == 1) && nodes < kStubNodes;
+           at = next, next = tree.parent[at], ++nodes) {
+        const Vector3d& p = skeleton[next].position;
+        thinner = std::min(thinner, 0.5 * skeleton[next].radius);
+        if ((p - at_fork).norm() >= skeleton[fork].radius) longer.push_back(p);
+        if (!longer.empty() && depth(longer.back()) >= thinner) {
+          path = std::move(longer);
+          radius = thinner;
+          break;
+        }
+      }
     }
     for (const Vector3d& position : path) {
       SkeletonNode node;

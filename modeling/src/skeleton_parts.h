@@ -6,7 +6,10 @@
 #include "treeskel/modeling/chains.h"
 #include "treeskel/skeleton.h"
 
+#include <Eigen/Core>
+
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace treeskel::modeling::detail {
@@ -28,7 +31,12 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
 /// past the fork below, at most half as thick as the parent; straight back to the next node (at
 /// most one radius) where the branch turns back over its parent by more than 120 degrees, or at a
 /// root with several branches (toward the thickest other one).
-Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top);
+/// With `depth` (how deep a point lies in the mesh the parent was swept into: negative outside), a
+/// piece whose tubes would meet that mesh nowhere (no point of its axis within its radius of it) has
+/// its stub follow the parent's path on, node by node, to the first node that lies the stub's
+/// radius deep in it (at most 8 nodes, not past the fork below).
+using DepthTest = std::function<double(const Eigen::Vector3d&)>;
+Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, const DepthTest& depth = {});
 
 /// The path through `nodes` of `sk` as a skeleton rooted at its first node.
 Skeleton path_of(const Skeleton& sk, const std::vector<NodeId>& nodes);

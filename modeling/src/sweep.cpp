@@ -1178,7 +1178,13 @@ TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& option
       for (NodeId v : subtree(tree.children, top)) taken[v] = true;
       outer.push_back(top);
     }
-    for (NodeId top : outer) apart.push_back(piece_of(shape, tree, top));
+    // Each stub is checked against the mesh its parent went into (see piece_of).
+    std::optional<detail::MeshDepth> in_mesh;
+    const detail::DepthTest depth = [&](const Vector3d& p) {
+      if (!in_mesh) in_mesh.emplace(mesh);
+      return (*in_mesh)(p);
+    };
+    for (NodeId top : outer) apart.push_back(piece_of(shape, tree, top, depth));
     if (kept) {
       std::vector<bool> keep(n);
       for (NodeId v = 0; v < n; ++v) keep[v] = !taken[v];

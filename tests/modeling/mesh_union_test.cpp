@@ -42,6 +42,19 @@ TEST(MeshUnion, KeepsEveryPieceInOneMesh) {
   EXPECT_GT(check_mesh(united.mesh).volume, check_mesh(trunk).volume);
 }
 
+// How deep a point lies in a trunk swept 0.1 thick up to z = 2: along its axis a radius deep (a little
+// less: the rings are polygons of the circle's area), beside it the distance to its surface, negative.
+TEST(MeshUnion, MeshDepthIsTheSignedDistanceToTheSurface) {
+  const TreeMesh trunk = sweep_mesh(test::straight(2.0, 0.1, 20));
+  const detail::MeshDepth depth(trunk);
+  EXPECT_NEAR(depth(Eigen::Vector3d(0, 0, 1.0)), 0.1, 0.01);
+  EXPECT_NEAR(depth(Eigen::Vector3d(0.05, 0, 1.0)), 0.05, 0.01);
+  EXPECT_NEAR(depth(Eigen::Vector3d(0.3, 0, 1.0)), -0.2, 0.01);
+  EXPECT_LT(depth(Eigen::Vector3d(0, 0, 2.5)), -0.45);  // above its top
+  const detail::MeshDepth none{TreeMesh()};
+  EXPECT_LT(none(Eigen::Vector3d::Zero()), -1e300);
+}
+
 // Two limbs that cross each other are united between themselves first, then with the trunk in one
 // corefinement: one closed mesh.
 TEST(MeshUnion, PiecesThatCrossAreUnitedTogetherFirst) {

@@ -164,6 +164,61 @@ TEST(SkeletonParts, ABranchThatTurnsBackOverItsParentKeepsAStubOfOneRadius) {
   EXPECT_TRUE(long_stub[long_stub.root].position.isApprox(s[fork].position - Eigen::Vector3d(0, 0, 4 * s[fork].radius), 1e-12));
 }
 
+// Where a piece would meet the mesh its parent went into nowhere (that tube cut across a turn near
+// the fork), its stub follows the parent's path on, node by node, to the first node that lies the
+// stub's radius deep in the mesh; never past the fork below, and as it was when the piece meets the
+// mesh or no node within reach lies deep enough.
+TEST(SkeletonParts, AStubGoesOnAlongItsParentToWhereTheMeshHoldsIt) {
+  Skeleton s = test::straight(1.0, 0.05, 20);  // nodes 0.05 apart, the fork at z = 1
+  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
+  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
+  const NodeId tip = test::add_run(s, fork, Eigen::Vector3d(0.5, 0, 1.5), 0.02, 20);
+  const ChainTree tree = build_chains(s);
+  const Skeleton plain = piece_of(s, tree, tip);
+  ASSERT_NEAR(plain[plain.root].position.z(), 0.8, 1e-12);  // four radii back
+  const double radius = plain[plain.root].radius;
+  ASSERT_LE(radius, 0.5 * s[fork].radius);
+  // The parent's mesh, everything below a plane: how deep a point lies in it.
+  auto below = [](double top) { return [top](const Eigen::Vector3d& p) { return top - p.z(); }; };
+  // Its top at z = 0.74: of the parent's nodes at 0.95, 0.90, ..., the one at 0.70 is the first
+  // a radius deep.
+  const Skeleton piece = piece_of(s, tree, tip, below(0.74));
+  EXPECT_TRUE(is_tree(piece.graph));
+  EXPECT_NEAR(piece[piece.root].position.z(), 0.70, 1e-12);
+  EXPECT_NEAR(piece[piece.root].position.x(), 0.0, 1e-12);
+  EXPECT_EQ(piece.node_count(), 6u + 1u + 20u);  // six stub nodes, the fork, the branch's 20
+  EXPECT_DOUBLE_EQ(piece[piece.root].radius, radius);
+  // Its top 2 cm under the stub's end, less than two of the stub's radii: the stub meets it and stays.
+  ASSERT_GT(2 * radius, 0.02);
+  const Skeleton meets = piece_of(s, tree, tip, below(0.78));
+  ASSERT_EQ(meets.node_count(), plain.node_count());
+  EXPECT_EQ(meets[meets.root].position, plain[plain.root].position);
+  // A mesh that only the branch's tip meets (the tip of a branch that bends back down): the piece is
+  // joined there, and the stub stays.
+  const Eigen::Vector3d tip_at = s[tip].position;
+  const Skeleton tip_meets = piece_of(s, tree, tip, [&](const Eigen::Vector3d& p) {
+    return (p - tip_at).norm() < 1e-9 ? 0.0 : 0.74 - p.z();
+  });
+  EXPECT_EQ(tip_meets[tip_meets.root].position, plain[plain.root].position);
+  // No further than 8 nodes: with the top at z = 0.58 the first node deep enough is the ninth.
+  const Skeleton far = piece_of(s, tree, tip, below(0.58));
+  EXPECT_EQ(far[far.root].position, plain[plain.root].position);
+  // A mesh that holds nothing near: as it was.
+  const Skeleton none = piece_of(s, tree, tip, [](const Eigen::Vector3d&) { return -1.0; });
+  EXPECT_EQ(none[none.root].position, plain[plain.root].position);
+  // Not past the fork below (a side branch at z = 0.9): deep enough only under it, the stub stays.
+  Skeleton t = test::straight(0.9, 0.05, 18);
+  const NodeId lower = static_cast<NodeId>(t.node_count() - 1);
+  test::add_run(t, lower, Eigen::Vector3d(0.5, 0, 1.2), 0.02, 10);
+  const NodeId upper = test::add_run(t, lower, Eigen::Vector3d(0, 0, 1.0), 0.05, 2);
+  test::add_run(t, upper, Eigen::Vector3d(0, 0, 2), 0.045, 20);
+  const NodeId other = test::add_run(t, upper, Eigen::Vector3d(-0.5, 0, 1.5), 0.02, 20);
+  const ChainTree t_tree = build_chains(t);
+  const Skeleton stays = piece_of(t, t_tree, other, below(0.83));
+  const Skeleton stays_plain = piece_of(t, t_tree, other);
+  EXPECT_EQ(stays[stays.root].position, stays_plain[stays_plain.root].position);
+}
+
 TEST(SkeletonParts, ANarrowBranchIsReattachedWhereItLeavesTheThickerOne) {
   // One arm 0.1 rad (6 degrees) off the trunk's line, the other 0.6 rad: the narrow one runs inside
   // the thicker continuation for a while.
