@@ -124,26 +124,26 @@ TreeMesh to_tree_mesh(const Surface& s, const Eigen::Vector3d& offset) {
 }
 
 using GT = CGAL::Exact_predicates_inexact_constructions_kernel;
+using VPM = boost::property_map<TreeMesh, CGAL::vertex_point_t>::const_type;
+/// An AABB tree of a tree mesh's faces, in doubles.
+using FaceTree = CGAL::AABB_tree<CGAL::AABB_traits<GT, CGAL::AABB_face_graph_triangle_primitive<TreeMesh, VPM>>>;
+using SideOfFaces = CGAL::Side_of_triangle_mesh<TreeMesh, GT, VPM, FaceTree>;
 
 /// Which side of a closed mesh a point lies on (an AABB tree of its faces in doubles, exact predicates).
 class SideOf {
  public:
   explicit SideOf(const TreeMesh& mesh) : tree_(faces(mesh).first, faces(mesh).second, mesh) {}
-  CGAL::Bounded_side operator()(const GT::Point_3& p) const { return CGAL::Side_of_triangle_mesh<TreeMesh, GT, VPM, Tree>(tree_)(p); }
+  CGAL::Bounded_side operator()(const GT::Point_3& p) const { return SideOfFaces(tree_)(p); }
 
  private:
-  using VPM = boost::property_map<TreeMesh, CGAL::vertex_point_t>::const_type;
-  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<GT, CGAL::AABB_face_graph_triangle_primitive<TreeMesh, VPM>>>;
-  Tree tree_;
+  FaceTree tree_;
 };
 
 }  // namespace
 
 struct MeshDepth::Tree {
-  using VPM = boost::property_map<TreeMesh, CGAL::vertex_point_t>::const_type;
-  using Faces = CGAL::AABB_tree<CGAL::AABB_traits<GT, CGAL::AABB_face_graph_triangle_primitive<TreeMesh, VPM>>>;
   explicit Tree(const TreeMesh& mesh) : aabb(faces(mesh).first, faces(mesh).second, mesh) { aabb.accelerate_distance_queries(); }
-  Faces aabb;
+  FaceTree aabb;
 };
 
 MeshDepth::MeshDepth(const TreeMesh& mesh) : tree_(std::make_unique<Tree>(mesh)) {}
@@ -153,7 +153,7 @@ double MeshDepth::operator()(const Eigen::Vector3d& p) const {
   if (tree_->aabb.empty()) return -std::numeric_limits<double>::infinity();
   const GT::Point_3 q(p.x(), p.y(), p.z());
   const double d = std::sqrt(CGAL::to_double(tree_->aabb.squared_distance(q)));
-  const auto side = CGAL::Side_of_triangle_mesh<TreeMesh, GT, Tree::VPM, Tree::Faces>(tree_->aabb)(q);
+  const auto side = SideOfFaces(tree_->aabb)(q);
   return side == CGAL::ON_BOUNDED_SIDE ? d : -d;
 }
 

@@ -136,6 +136,7 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
   // a stub straight back to the parent's next node (at most one radius) left the pieces of narrow
   // forks outside the parent's tube when the parent bent, and the union had nothing to join.
   const NodeId fork = chain.front();
+  const std::vector<NodeId> branch = subtree(tree.children, chain[1]);  // with all it carries
   // Toward the parent, or at a root with several branches, toward the thickest other one.
   NodeId toward = tree.parent[fork];
   const bool down = toward == fork;
@@ -194,7 +195,7 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
         if (segment_meets(last, p, radius)) return true;
         last = p;
       }
-      for (NodeId v : subtree(tree.children, chain[1]))
+      for (NodeId v : branch)
         if (segment_meets(skeleton[tree.parent[v]].position, skeleton[v].position, skeleton[v].radius)) return true;
       return false;
     };
@@ -231,7 +232,7 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
       piece.root = stub;
     }
   }
-  for (NodeId v : subtree(tree.children, chain[1])) {
+  for (NodeId v : branch) {
     add(v, skeleton[v].radius);
     boost::add_edge(id[tree.parent[v]], id[v], piece.graph);
   }
