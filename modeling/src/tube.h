@@ -42,8 +42,10 @@ Eigen::Vector3d transport(const Eigen::Vector3d& u, const Eigen::Vector3d& from,
 constexpr double kStepRadii = 1.0;
 
 /// The polyline through `points` with their radii: points within `eps` of the previous one are merged
-/// (the last point kept), points closer than kStepRadii radii to the previous one kept dropped, and
-/// points where it turns by more than 120 degrees dropped (never the ends).
+/// (the last point kept), points closer than kStepRadii radii to the previous one kept dropped,
+/// points where it turns by more than 120 degrees dropped, and the two points of a step shorter
+/// than two radii across which it turns back by more than 120 degrees (a hairpin) dropped (never
+/// the ends).
 Polyline make_polyline(const std::vector<Eigen::Vector3d>& points, const std::vector<double>& radii, double eps);
 
 /// The ring at arc length `s` (clamped to the polyline), `sides` sides, of the interpolated radius.

@@ -72,6 +72,22 @@ TEST(Tube, PolylineKeepsItsPointsARadiusApart) {
   EXPECT_EQ(sparse.p.size(), 4u);
 }
 
+// A hairpin within the branch's own radius (0.05): down 0.2, across the bottom in a step of 0.06 (90
+// degrees), then up and away at 45 degrees; neither turn reaches the 120-degree rule, but over the
+// step across the path turns back by 135 degrees, and its tube would pass through itself. The two
+// points of that step go: the path runs from the last point down to the first one up. With a
+// radius under half the step, nothing goes.
+TEST(Tube, PolylineDropsAHairpinWithinTwoRadii) {
+  const std::vector<Vector3d> points{{0, 0, 0.3}, {0, 0, 0.2}, {0, 0, 0.1}, {0.06, 0, 0.1}, {0.16, 0, 0.2}, {0.26, 0, 0.3}};
+  const Polyline pl = make_polyline(points, std::vector<double>(points.size(), 0.05), 1e-9);
+  ASSERT_EQ(pl.p.size(), 4u);
+  EXPECT_EQ(pl.p[1], points[1]);
+  EXPECT_EQ(pl.p[2], points[4]);
+  EXPECT_EQ(pl.p.back(), points.back());
+  const Polyline thin = make_polyline(points, std::vector<double>(points.size(), 0.02), 1e-9);
+  EXPECT_EQ(thin.p.size(), points.size());
+}
+
 TEST(Tube, RingAtInterpolatesAndClamps) {
   const Polyline pl = make_polyline({{0, 0, 0}, {0, 0, 1}, {1, 0, 1}}, {0.2, 0.1, 0.1}, 1e-9);
   const Ring mid = ring_at(pl, 0.5, 8);
