@@ -154,9 +154,8 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
     Vector3d reached = skeleton[fork].position;
     const double enough = length * (1.0 - 1e-9);  // no sliver of a step for a rounding error
     // Not past the fork below: the stub stays on the parent's own branch.
-    auto goes_on = [&](NodeId at, NodeId next) {
-      return next != at && walked < enough && (at == fork || tree.children[at].size() == 1);
-    };
+    auto on_branch = [&](NodeId at, NodeId next) { return next != at && (at == fork || tree.children[at].size() == 1); };
+    auto goes_on = [&](NodeId at, NodeId next) { return on_branch(at, next) && walked < enough; };
     for (NodeId at = fork, next = toward; goes_on(at, next); at = next, next = next_of(at)) {
       const Vector3d step = skeleton[next].position - skeleton[at].position;
       const double step_length = step.norm();
@@ -211,8 +210,7 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
       std::vector<Vector3d> longer;
       double thinner = radius;
       int nodes = 0;
-      for (NodeId at = fork, next = toward; next != at && (at == fork || tree.children[at].size() == 1) && nodes < kStubNodes;
-           at = next, next = tree.parent[at], ++nodes) {
+      for (NodeId at = fork, next = toward; on_branch(at, next) && nodes < kStubNodes; at = next, next = next_of(at), ++nodes) {
         const Vector3d& p = skeleton[next].position;
         thinner = std::min(thinner, 0.5 * skeleton[next].radius);
         if ((p - at_fork).norm() >= skeleton[fork].radius) longer.push_back(p);

@@ -21,6 +21,20 @@ Vector3d transport(const Vector3d& u, const Vector3d& from, const Vector3d& to) 
   return ortho.norm() > 1e-12 ? Vector3d(ortho.normalized()) : Vector3d(to.unitOrthogonal());
 }
 
+namespace {
+
+/// Whether a path going `in` and then `out` turns back by more than 120 degrees.
+bool turns_back(const Vector3d& in, const Vector3d& out) { return in.dot(out) < -0.5 * in.norm() * out.norm(); }
+
+/// Drops `count` points of `pl` from the `i`th on.
+void erase_points(Polyline& pl, std::size_t i, std::size_t count) {
+  const auto from = static_cast<std::ptrdiff_t>(i), to = static_cast<std::ptrdiff_t>(i + count);
+  pl.p.erase(pl.p.begin() + from, pl.p.begin() + to);
+  pl.r.erase(pl.r.begin() + from, pl.r.begin() + to);
+}
+
+}  // namespace
+
 Polyline make_polyline(const std::vector<Vector3d>& points, const std::vector<double>& radii, double eps) {
   Polyline pl;
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -62,10 +76,8 @@ Polyline make_polyline(const std::vector<Vector3d>& points, const std::vector<do
   for (bool changed = true; changed && pl.p.size() > 2;) {
     changed = false;
     for (std::size_t i = 1; i + 1 < pl.p.size(); ++i) {
-      const Vector3d in = pl.p[i] - pl.p[i - 1], out = pl.p[i + 1] - pl.p[i];
-      if (in.dot(out) < -0.5 * in.norm() * out.norm()) {
-        pl.p.erase(pl.p.begin() + static_cast<std::ptrdiff_t>(i));
-        pl.r.erase(pl.r.begin() + static_cast<std::ptrdiff_t>(i));
+      if (turns_back(pl.p[i] - pl.p[i - 1], pl.p[i + 1] - pl.p[i])) {
+        erase_points(pl, i, 1);
         changed = true;
         break;
       }
@@ -78,11 +90,9 @@ Polyline make_polyline(const std::vector<Vector3d>& points, const std::vector<do
   for (bool changed = true; changed && pl.p.size() > 3;) {
     changed = false;
     for (std::size_t i = 1; i + 2 < pl.p.size(); ++i) {
-      const Vector3d in = pl.p[i] - pl.p[i - 1], out = pl.p[i + 2] - pl.p[i + 1];
       const double step = (pl.p[i + 1] - pl.p[i]).norm();
-      if (step < 2.0 * std::max(pl.r[i], pl.r[i + 1]) && in.dot(out) < -0.5 * in.norm() * out.norm()) {
-        pl.p.erase(pl.p.begin() + static_cast<std::ptrdiff_t>(i), pl.p.begin() + static_cast<std::ptrdiff_t>(i + 2));
-        pl.r.erase(pl.r.begin() + static_cast<std::ptrdiff_t>(i), pl.r.begin() + static_cast<std::ptrdiff_t>(i + 2));
+      if (step < 2.0 * std::max(pl.r[i], pl.r[i + 1]) && turns_back(pl.p[i] - pl.p[i - 1], pl.p[i + 2] - pl.p[i + 1])) {
+        erase_points(pl, i, 2);
         changed = true;
         break;
       }
