@@ -357,8 +357,8 @@ int main(int argc, char** argv) {
        << "2. **Ring joining** (`LevelSetOptions::join_factor`): band components that hang from the same node and "
           "lie closer than half its radius are one sparsely sampled ring, not a fork; and each component hangs "
           "from the lower component it shares most edges with, not only from its lowest cell's predecessor.\n"
-       << "3. **Far bridging** (`NeighbourGraphOptions::far_bridge_distance`): parts holding at least 0.2% of "
-          "the points are joined across gaps up to a tenth of the cloud's size, so a branch cut off by an "
+       << "3. **Far bridging** (`NeighbourGraphOptions::far_bridge_distance`): parts holding at least ten "
+          "points are joined across gaps up to a tenth of the cloud's size, so a branch or twig cut off by an "
           "occlusion is not lost (this is what moves SPD on the missing-data clouds).\n"
        << "4. **CPC guarded** (`cpc.h`): moves only across the branch, only onto a cylinder-like slice.\n"
        << "5. **Spur pruning** (`prune.h`, a leaf branch that stays within " << PruneOptions{}.radius_factor

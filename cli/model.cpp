@@ -205,6 +205,7 @@ int run(Settings& s) {
                {"branches", sweep_stats.branches},
                {"junctions", sweep_stats.junctions},
                {"merged_forks", sweep_stats.merged_forks},
+               {"straightened_branches", sweep_stats.straightened_branches},
                {"thin_left_out", sweep_stats.thin_left_out},
                {"relocated_branches", sweep_stats.relocated_branches},
                {"twigs_absorbed", sweep_stats.twigs_absorbed},

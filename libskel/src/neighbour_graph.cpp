@@ -322,9 +322,10 @@ CellGraph build_neighbour_graph(const OctreeCells& cells, const NeighbourGraphOp
   CellGraph graph;
   const double bridge = bridge_distance_for(options, cells);
   const double far = options.far_bridge_distance == 0.0 ? 0.1 * cells.cube_size : std::max(options.far_bridge_distance, 0.0);
-  const auto min_points = static_cast<std::size_t>(options.far_bridge_fraction * static_cast<double>(cells.point_order.size()));
+  const auto min_points = std::max(options.far_bridge_min_points,
+                                   static_cast<std::size_t>(options.far_bridge_fraction * static_cast<double>(cells.point_order.size())));
   std::vector<std::pair<std::uint32_t, std::uint32_t>> links;
-  if (bridge > 0.0) links = bridge_parts(cells, adj, bridge, std::max(far, bridge), std::max<std::size_t>(min_points, 10));
+  if (bridge > 0.0) links = bridge_parts(cells, adj, bridge, std::max(far, bridge), std::max<std::size_t>(min_points, 1));
   graph.bridges = links.size();
 
   const std::size_t n = adj.size();

@@ -348,6 +348,7 @@ void add_counts(SweepStats& to, const SweepStats& from) {
   to.branches += from.branches;
   to.junctions += from.junctions;
   to.merged_forks += from.merged_forks;
+  to.straightened_branches += from.straightened_branches;
   to.thin_left_out += from.thin_left_out;
   to.relocated_branches += from.relocated_branches;
   to.twigs_absorbed += from.twigs_absorbed;

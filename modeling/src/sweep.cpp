@@ -53,6 +53,7 @@ struct Attempt {
   std::size_t absorbed = 0;    // twigs too short to leave their join's hull, left inside it
   std::size_t thinned = 0;     // branches thinned so that the joins at both their ends fit
   std::size_t dropped = 0;     // ... and left out when thinning did not do
+  std::size_t straightened = 0;  // branches between two forks swept straight (they doubled back)
   std::vector<NodeId> shrink;  // subtrees (by their top node) to thin, then try again
   std::vector<NodeId> detached;  // subtrees (by their top node) left out of this sweep, swept apart
   // The surface as a triangle soup, in parts: a join's hull, a tube's band between two adjacent
@@ -126,6 +127,7 @@ class Builder {
     UnionFind uf(n);
     absorbed_.assign(t_.chains.size(), false);
     thinned_.assign(t_.chains.size(), 0);
+    straightened_.assign(t_.chains.size(), false);
     ring_d_.assign(t_.chains.size(), {0.0, 0.0});
     ring_neck_.assign(t_.chains.size(), {1.0, 1.0});
     std::set<std::size_t> settled;  // joins (by representative) whose rings fit as they are
@@ -218,12 +220,31 @@ class Builder {
         first.radius *= ja ? ring_neck_[c][0] : 1.0;
         last.radius *= jb ? ring_neck_[c][1] : 1.0;
         // A chain many radii long has room between its end rings even when it curls so that they
-        // face apart: the rings laid along it in between keep its tube from crossing itself.
+        // face apart: the rings laid along it in between keep its tube from crossing itself. Between
+        // two forks, where it may be swept straight instead, those rings are laid here to see (a
+        // chain that doubles back within a few of its radii has none that lead it round).
         const double room = s1 - s0;
+        std::vector<Ring> rings;
         if (room > 0.05 * pl.length() &&
-            (compatible(first, last, eps_) || room > kRoomyChain * std::max(first.radius, last.radius)))
+            (compatible(first, last, eps_) ||
+             (room > kRoomyChain * std::max(first.radius, last.radius) &&
+              (!(ja && jb) || straightened_[c] || lay_rings(pl, s0, s1, first, last, sides_[c], rings)))))
           continue;
         if (ja && jb && !compact_merge(uf, a, b)) {
+          if (!straightened_[c] && pl.p.size() > 2) {
+            // Forks too far apart for one join, and no tube along the chain between them (most
+            // often the skeleton wandering: it doubles back within a few of its radii): the chain
+            // is first swept straight from fork to fork, bent rather than thinned with all it
+            // carries, which may be most of the crown; thinned only if that does not fit either.
+            straightened_[c] = true;
+            const Polyline bent = pl;
+            lines_[c] = make_polyline({bent.p.front(), bent.p.back()}, {bent.r.front(), bent.r.back()}, eps_);
+            ++attempt.straightened;
+            settled.erase(uf.find(a));
+            settled.erase(uf.find(b));
+            all = false;
+            continue;
+          }
           std::vector<std::size_t> touched;
           if (thin_or_drop(c, attempt, touched)) {  // the upper branch was thinned or left out
             for (std::size_t v : touched) settled.erase(uf.find(v));
@@ -396,6 +417,29 @@ class Builder {
     return worst;
   }
 
+  /// The rings of a tube from `first` (at arc s0) to `last` (at s1): one at each point of the polyline
+  /// between them where the branch has run or turned enough, none crossing the one before or `last`;
+  /// false (and `rings` up to the last one that fits) when the end rings still cross.
+  bool lay_rings(const Polyline& pl, double s0, double s1, const Ring& first, const Ring& last, int sides,
+                 std::vector<Ring>& rings) const {
+    const double margin_scale = 0.01;
+    rings.assign(1, first);
+    for (std::size_t i = 1; i + 1 < pl.p.size(); ++i) {
+      if (pl.s[i] <= s0 || pl.s[i] >= s1) continue;
+      const Ring candidate = ring_at(pl, pl.s[i], sides);
+      const Ring& prev = rings.back();
+      const double r = std::max(candidate.radius, prev.radius);
+      const bool far = (candidate.centre - prev.centre).norm() >= o_.ring_spacing * r;
+      const bool turned = std::acos(std::clamp(candidate.normal.dot(prev.normal), -1.0, 1.0)) > o_.max_turn;
+      if (!far && !turned) continue;
+      if (!compatible(prev, candidate, margin_scale * r + eps_)) continue;
+      rings.push_back(candidate);
+    }
+    while (rings.size() > 1 && !compatible(rings.back(), last, margin_scale * std::max(rings.back().radius, last.radius) + eps_))
+      rings.pop_back();
+    return compatible(rings.back(), last, eps_);
+  }
+
   /// Arc length of the last ring of a chain ending in a tip (its first ring at `s0`).
   static double tip_arc(const Polyline& pl, double s0) {
     const double length = pl.length();
@@ -556,7 +600,6 @@ class Builder {
       ++attempt.branches;
       const Polyline& pl = lines_[c];
       const int sides = sides_[c];
-      const double margin_scale = 0.01;
       Tube tube;
       tube.chain = c;
       // First ring: at the join, or at the root with a flat base cap.
@@ -588,21 +631,7 @@ class Builder {
       }
       // Rings in between, wherever the branch has run or turned enough, none crossing the last.
       std::vector<Ring>& rings = tube.rings;
-      rings.push_back(first);
-      for (std::size_t i = 1; i + 1 < pl.p.size(); ++i) {
-        if (pl.s[i] <= s0 || pl.s[i] >= s1) continue;
-        const Ring candidate = ring_at(pl, pl.s[i], sides);
-        const Ring& prev = rings.back();
-        const double r = std::max(candidate.radius, prev.radius);
-        const bool far = (candidate.centre - prev.centre).norm() >= o_.ring_spacing * r;
-        const bool turned = std::acos(std::clamp(candidate.normal.dot(prev.normal), -1.0, 1.0)) > o_.max_turn;
-        if (!far && !turned) continue;
-        if (!compatible(prev, candidate, margin_scale * r + eps_)) continue;
-        rings.push_back(candidate);
-      }
-      while (rings.size() > 1 && !compatible(rings.back(), last, margin_scale * std::max(rings.back().radius, last.radius) + eps_))
-        rings.pop_back();
-      if (!compatible(rings.back(), last, eps_)) {
+      if (!lay_rings(pl, s0, s1, first, last, sides, rings)) {
         attempt.shrink.push_back(chain_top(c));
         continue;
       }
@@ -781,6 +810,7 @@ class Builder {
   std::vector<int> sides_;
   std::vector<bool> is_junction_;
   std::vector<int> thinned_;  // per chain: times thinned in this build
+  std::vector<bool> straightened_;  // per chain: swept straight from fork to fork in this build
   double max_radius_ = 0.0;
   double limb_radius_ = 0.0;
   std::vector<bool> absorbed_;  // per chain: a twig left inside its join's hull
@@ -983,6 +1013,7 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
     st.branches = a.branches;
     st.junctions = a.junctions;
     st.merged_forks = a.merged_forks;
+    st.straightened_branches = a.straightened;
     st.twigs_absorbed = a.absorbed;
     st.joins_thinned = a.thinned;
     st.joins_dropped = a.dropped;

@@ -15,15 +15,20 @@ PointCloud grid_points(const std::vector<Eigen::Vector3i>& cells_at, int extent)
   return c;
 }
 
+/// The octree cells of `cloud` at `depth`.
+OctreeCells cells_at_depth(const PointCloud& cloud, int depth) {
+  OctreeOptions o;
+  o.depth = depth;
+  return build_octree_cells(cloud, o);
+}
+
 TEST(NeighbourGraph, OctreeAdjacencyIsTheTwentySixNeighbourhood) {
   std::vector<Eigen::Vector3i> block;
   for (int z = 4; z < 7; ++z)
     for (int y = 4; y < 7; ++y)
       for (int x = 4; x < 7; ++x) block.emplace_back(x, y, z);
   const PointCloud cloud = grid_points(block, 16);
-  OctreeOptions o;
-  o.depth = 4;  // 16 cells of size 1
-  const OctreeCells cells = build_octree_cells(cloud, o);
+  const OctreeCells cells = cells_at_depth(cloud, 4);  // 16 cells of size 1
   ASSERT_DOUBLE_EQ(cells.cell_size, 1.0);
   NeighbourGraphOptions g;
   g.bridge_distance = -1.0;
@@ -55,9 +60,7 @@ TEST(NeighbourGraph, BridgesGapsShorterThanTheBridgeDistance) {
   for (const auto& g : line) cloud.positions.push_back(g.cast<double>() + Eigen::Vector3d(0.5, 0.5, 0.5));
   cloud.positions.emplace_back(0.0, 0.0, 0.0);
   cloud.positions.emplace_back(16.0, 0.0, 0.0);
-  OctreeOptions o;
-  o.depth = 4;
-  const OctreeCells cells = build_octree_cells(cloud, o);
+  const OctreeCells cells = cells_at_depth(cloud, 4);
 
   NeighbourGraphOptions none;
   none.bridge_distance = -1.0;
@@ -88,9 +91,7 @@ TEST(NeighbourGraph, BridgeLinksEachPartToItsNearestForeignCell) {
   at.emplace_back(8, 11, 25);  // part B: 3 cells from (8, 8, 25)
   at.emplace_back(8, 12, 26);
   const PointCloud cloud = grid_points(at, 32);
-  OctreeOptions o;
-  o.depth = 5;
-  const OctreeCells cells = build_octree_cells(cloud, o);
+  const OctreeCells cells = cells_at_depth(cloud, 5);
   ASSERT_DOUBLE_EQ(cells.cell_size, 1.0);
   NeighbourGraphOptions g;
   g.bridge_distance = 6.0;
@@ -112,6 +113,48 @@ TEST(NeighbourGraph, BridgeLinksEachPartToItsNearestForeignCell) {
   // Out of reach: a bridge distance under 3 joins neither part.
   g.bridge_distance = 2.9;
   EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 0u);
+}
+
+TEST(NeighbourGraph, FarBridgingJoinsATwigPieceOfTenPointsButNotFewerStrayPoints) {
+  // A line of cells along z (3 points each), a twig piece of 10 points 4 cells beside it, and 9
+  // stray points 4 cells beside it elsewhere: beyond the near bridge (2.5), within the far one (5).
+  PointCloud cloud;
+  const auto put = [&](const Eigen::Vector3i& g, int n) {
+    for (int i = 0; i < n; ++i)
+      cloud.positions.push_back(g.cast<double>() + Eigen::Vector3d(0.3 + 0.04 * i, 0.5, 0.7 - 0.04 * i));
+  };
+  for (int z = 0; z < 31; ++z) put({8, 8, z}, 3);
+  put({12, 8, 15}, 5);  // the twig piece: two cells, 10 points
+  put({13, 8, 15}, 5);
+  put({8, 12, 25}, 9);  // the stray points
+  cloud.positions.emplace_back(0.0, 0.0, 0.0);
+  cloud.positions.emplace_back(32.0, 32.0, 32.0);
+  const OctreeCells cells = cells_at_depth(cloud, 5);
+  ASSERT_DOUBLE_EQ(cells.cell_size, 1.0);
+  NeighbourGraphOptions g;
+  g.bridge_distance = 2.5;
+  g.far_bridge_distance = 5.0;
+  const CellGraph graph = build_neighbour_graph(cells, g);
+  EXPECT_EQ(graph.bridges, 1u);
+  const auto twig = cells.find({12, 8, 15}), trunk = cells.find({8, 8, 15});
+  ASSERT_GE(twig, 0);
+  ASSERT_GE(trunk, 0);
+  const auto id = connected_components(graph);
+  EXPECT_EQ(id[twig], id[trunk]);
+  EXPECT_NE(id[cells.find({8, 12, 25})], id[trunk]);
+  const MainPart main = select_main_part(cells, graph, g);
+  EXPECT_EQ(main.parts, 4u);  // the line with the twig, the stray points, the two pins
+  EXPECT_EQ(main.left_out.total(), 11u);
+
+  // A floor above the twig's ten points, or a share of the cloud above them, leaves it out too.
+  g.far_bridge_min_points = 11;
+  EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 0u);
+  g.far_bridge_min_points = 10;
+  g.far_bridge_fraction = 0.1;  // 11 of the 114 points
+  EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 0u);
+  // With the near bridge alone long enough, both join whatever their size.
+  g.bridge_distance = 4.5;
+  EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 2u);
 }
 
 TEST(NeighbourGraph, KnnGraphIsSymmetricWithAtLeastKNeighbours) {

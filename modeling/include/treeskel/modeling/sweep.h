@@ -74,6 +74,7 @@ struct SweepStats {
   std::size_t branches = 0;          ///< chains swept into tubes
   std::size_t junctions = 0;         ///< convex-hull joins (a join may hold several close forks)
   std::size_t merged_forks = 0;      ///< forks joined with a neighbour into one hull
+  std::size_t straightened_branches = 0;  ///< branches between two forks that doubled back, swept straight
   std::size_t thin_left_out = 0;     ///< branches under `min_radius`, left out
   std::size_t raised_to_floor = 0;   ///< nodes whose radius was raised to `min_relative_radius`
   std::size_t relocated_branches = 0;  ///< narrow-angle branches re-attached where they emerge
