@@ -325,7 +325,7 @@ CellGraph build_neighbour_graph(const OctreeCells& cells, const NeighbourGraphOp
   const auto min_points = std::max(options.far_bridge_min_points,
                                    static_cast<std::size_t>(options.far_bridge_fraction * static_cast<double>(cells.point_order.size())));
   std::vector<std::pair<std::uint32_t, std::uint32_t>> links;
-  if (bridge > 0.0) links = bridge_parts(cells, adj, bridge, std::max(far, bridge), std::max<std::size_t>(min_points, 1));
+  if (bridge > 0.0) links = bridge_parts(cells, adj, bridge, std::max(far, bridge), min_points);
   graph.bridges = links.size();
 
   const std::size_t n = adj.size();
