@@ -51,8 +51,8 @@ using UnionFind = DisjointSets<std::size_t>;
 /// Outcome of one attempt to build the mesh of a (pruned, scaled) skeleton.
 struct Attempt {
   std::size_t absorbed = 0;    // twigs too short to leave their join's hull, left inside it
-  std::size_t thinned = 0;     // branches thinned so that the joins at both their ends fit
-  std::size_t dropped = 0;     // ... and left out when thinning did not do
+  std::size_t thinned = 0;     // the root's chain thinned so that the joins at both its ends fit
+  std::size_t dropped = 0;     // branches left out of this sweep where their joins did not fit
   std::size_t straightened = 0;  // branches between two forks swept straight (they doubled back)
   std::vector<NodeId> shrink;  // subtrees (by their top node) to thin, then try again
   std::vector<NodeId> detached;  // subtrees (by their top node) left out of this sweep, swept apart
@@ -89,9 +89,8 @@ class Builder {
   /// triangles as positions in that list (none when some point was not on the hull).
   using HullCache = std::map<std::vector<double>, std::optional<std::vector<std::array<std::size_t, 3>>>>;
 
-  /// `limb_radius`: see TreeScale.
-  Builder(const Skeleton& sk, const SweepOptions& o, HullCache& hulls, double limb_radius)
-      : sk_(sk), o_(o), t_(build_chains(sk)), hulls_(&hulls), limb_radius_(limb_radius) {}
+  Builder(const Skeleton& sk, const SweepOptions& o, HullCache& hulls)
+      : sk_(sk), o_(o), t_(build_chains(sk)), hulls_(&hulls) {}
 
   Attempt run() {
     const auto& g = sk_.graph;
@@ -477,25 +476,23 @@ class Builder {
     return chains;
   }
 
-  /// The joins at both ends of chain `c` cannot both fit: thins it and all it carries (x
-  /// repair_shrink), up to max_shrinks times; after that a thin branch is left out with all it
-  /// carries. Appends the forks whose joins must be placed again to `touched`. False for a limb
-  /// thinned as far as it may be (its forks are then merged).
+  /// The joins at both ends of chain `c` cannot both fit. A branch is swept apart with all it
+  /// carries, at its own radii, for `sweep_mesh` to unite with the tree: thinning it with all it
+  /// carries, up to three times, left a limb that carries much of the crown a third of its radius
+  /// (AdTree's tree1 lost 8% of its volume so). The chain from the root, which may not go, is thinned
+  /// (x repair_shrink, up to max_shrinks times). Appends the forks whose joins must be placed again
+  /// to `touched`. False for the root chain thinned as far as it may be (its forks are then merged).
   bool thin_or_drop(std::size_t c, Attempt& attempt, std::vector<std::size_t>& touched) {
-    const auto chains = carried_chains(c);
-    const bool limb = lines_[c].r.front() >= limb_radius_;
-    if (thinned_[c] < o_.max_shrinks) {
-      ++thinned_[c];
-      ++attempt.thinned;
-      for (std::size_t d : chains)
-        for (double& r : lines_[d].r) r *= o_.repair_shrink;
-    } else if (!limb && t_.chains[c].nodes.front() != sk_.root) {
-      ++attempt.dropped;
-      attempt.detached.push_back(chain_top(c));
-      for (std::size_t d : chains) absorbed_[d] = true;
-    } else {
-      return false;
+    if (t_.chains[c].nodes.front() != sk_.root) {
+      detach(c, attempt, touched);
+      return true;
     }
+    if (thinned_[c] >= o_.max_shrinks) return false;
+    ++thinned_[c];
+    ++attempt.thinned;
+    const auto chains = carried_chains(c);
+    for (std::size_t d : chains)
+      for (double& r : lines_[d].r) r *= o_.repair_shrink;
     for (std::size_t d : chains) touched.insert(touched.end(), {t_.chains[d].nodes.front(), t_.chains[d].nodes.back()});
     return true;
   }
@@ -812,7 +809,6 @@ class Builder {
   std::vector<int> thinned_;  // per chain: times thinned in this build
   std::vector<bool> straightened_;  // per chain: swept straight from fork to fork in this build
   double max_radius_ = 0.0;
-  double limb_radius_ = 0.0;
   std::vector<bool> absorbed_;  // per chain: a twig left inside its join's hull
   std::vector<std::array<double, 2>> ring_neck_;  // per chain: neck factor of those rings
   std::vector<std::array<double, 2>> ring_d_;  // per chain: ring distance from its start's join, its end's join
@@ -1008,7 +1004,7 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
       for (NodeId top : tops)
         for (NodeId v : subtree(pt.children, top)) detached.push_back(ids[v]);
     };
-    Builder builder(pruned, options, hulls, whole.limb_radius);
+    Builder builder(pruned, options, hulls);
     Attempt a = builder.run();
     st.branches = a.branches;
     st.junctions = a.junctions;

@@ -79,8 +79,8 @@ struct SweepStats {
   std::size_t raised_to_floor = 0;   ///< nodes whose radius was raised to `min_relative_radius`
   std::size_t relocated_branches = 0;  ///< narrow-angle branches re-attached where they emerge
   std::size_t twigs_absorbed = 0;    ///< twigs too short to leave their fork's hull, left out
-  std::size_t joins_thinned = 0;     ///< branches thinned so that the joins at both their ends fit
-  std::size_t joins_dropped = 0;     ///< thin branches swept apart when thinning did not make them fit
+  std::size_t joins_thinned = 0;     ///< times the root's chain was thinned so that the joins at both its ends fit
+  std::size_t joins_dropped = 0;     ///< branches swept apart (at their radii) where their joins did not fit
   std::size_t repaired_shrunk = 0;   ///< branches thinned to clear an intersection
   std::size_t repaired_dropped = 0;  ///< branches swept apart to clear an intersection
   int repair_rounds = 0;
