@@ -75,6 +75,7 @@ int run(Settings& s) {
   Skeleton skeleton;
   SkeletonStats skeleton_stats;
   WoodSplit wood;
+  std::size_t ground = 0;
   const bool from_skeleton = io::looks_like_skeleton(s.input);
   if (from_skeleton && s.method.wood_only)
     throw OptionError("--wood-only sets leaves aside from a point cloud; " + s.input + " is a skeleton");
@@ -96,6 +97,8 @@ int run(Settings& s) {
                 << " nodes have no radius; the pipe model fills them in from the others\n";
   } else {
     cloud = io::read_point_cloud(s.input);
+    ground = set_ground_aside(s.method, *cloud);
+    if (ground > 0 && !s.quiet && !s.json) std::cerr << "note: " << s.input << ": " << ground_note(ground, "--set-ground-aside") << '\n';
     wood = keep_wood(s.method, *cloud, s.input, s.quiet || s.json);
     SkeletonOptions o = skeleton_options_for(s.method, *cloud);
     if (progress.active()) o.progress = [&](const std::string& stage, double done) { progress(stage, 0.05 + 0.6 * done); };
@@ -170,6 +173,7 @@ int run(Settings& s) {
   j["input"] = s.input;
   j["output"] = s.output;
   if (cloud) j["points"] = cloud->size();
+  if (cloud) j["ground_set_aside"] = ground;
   if (wood.run) j["wood_only"] = {{"wood_points", wood.wood_points}, {"leaf_points", wood.leaf_points}};
   j["nodes"] = skeleton.node_count();
   j["branch_points"] = count_branch_points(skeleton.graph);

@@ -158,6 +158,11 @@ std::string leafy_warning(const PointCloud& cloud, const std::string& remedy) {
   return w.str();
 }
 
+std::string ground_note(std::size_t points, const std::string& option) {
+  return "set aside " + std::to_string(points) +
+         " points of ground and what lies on it around the stem's foot (" + option + ")";
+}
+
 std::string wood_split(std::size_t wood_points, std::size_t leaf_points) {
   const std::size_t all = wood_points + leaf_points;
   std::ostringstream line;

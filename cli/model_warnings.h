@@ -62,4 +62,8 @@ inline constexpr std::size_t kFewestWoodPoints = 10;
 /// look like wood; L (x%) look like leaves and are set aside".
 std::string wood_split(std::size_t wood_points, std::size_t leaf_points);
 
+/// The note for `points` points of ground set aside (no input name), naming `option`, the front
+/// end's way that asked for it.
+std::string ground_note(std::size_t points, const std::string& option);
+
 }  // namespace treeskel::cli

@@ -18,6 +18,7 @@ struct SkeletonSettings {
   SkeletonOptions options;
   bool no_prune = false, no_cpc = false, no_refine = false, no_junctions = false, no_smooth = false;
   bool wood_only = false;
+  bool ground_aside = false;
 };
 
 /// What --wood-only kept and set aside; without it, whether the cloud looked leafy.
@@ -49,6 +50,11 @@ void require_skeleton_extension(const std::string& path);
 /// (without the input's name) for the caller to print and report.
 /// @throws InputError when it leaves too few points to extract a skeleton from.
 WoodSplit keep_wood(const SkeletonSettings& settings, PointCloud& cloud, const std::string& input, bool quiet);
+
+/// With --set-ground-aside: sets aside the ground the tree's scan stands on, when it holds some
+/// (forest::ground_under_tree: ground reaching out beyond the stem's foot), and returns how many
+/// points that was (0 when none was found, or without the option).
+std::size_t set_ground_aside(const SkeletonSettings& settings, PointCloud& cloud);
 
 /// Adds --leaves FILE (the points --wood-only set aside) to `command`.
 void add_leaves_option(CLI::App& command, std::string& file);

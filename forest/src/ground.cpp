@@ -1,4 +1,5 @@
 #include "treeskel/forest/ground.h"
+#include "treeskel/forest/stems.h"
 
 #include "treeskel/error.h"
 
@@ -198,6 +199,55 @@ Ground classify_ground(const PointCloud& cloud, const GroundOptions& options, co
   });
   g.ground_points = static_cast<std::size_t>(std::count(g.is_ground.begin(), g.is_ground.end(), std::uint8_t{1}));
   return g;
+}
+
+GroundUnderTree ground_under_tree(const PointCloud& cloud, const Eigen::Vector3d& up) {
+  GroundUnderTree out;
+  if (cloud.size() == 0 || up.norm() == 0.0) return out;
+  // The cloud turned so that `up` is z (its plan axes any two orthogonal to it).
+  const Eigen::Vector3d z = up.normalized();
+  const Eigen::Vector3d x = z.unitOrthogonal(), y = z.cross(x);
+  PointCloud turned;
+  turned.positions.reserve(cloud.size());
+  double low = kEmpty, high = -kEmpty;
+  for (const auto& p : cloud.positions) {
+    turned.positions.emplace_back(p.dot(x), p.dot(y), p.dot(z));
+    low = std::min(low, turned.positions.back().z());
+    high = std::max(high, turned.positions.back().z());
+  }
+  if (!(high - low >= 1.0 && high - low <= 200.0)) return out;
+  const GroundOptions options;
+  Ground g = classify_ground(turned, options, cloud.classes.size() == cloud.size() ? &cloud.classes : nullptr);
+  if (g.ground_points == 0) return out;
+  // The stem: the largest that find_stems sees in the slice above this ground. With none, the
+  // "ground" cannot be told from the foot of whatever stands on it, and nothing is set aside.
+  const std::vector<Stem> stems = find_stems(turned, g);
+  if (stems.empty()) return out;
+  const Stem& stem = *std::max_element(stems.begin(), stems.end(), [](const Stem& p, const Stem& q) {
+    return p.radius < q.radius;
+  });
+  const Eigen::Vector2d foot = stem.centre;
+  out.stem_radius = stem.radius;
+  const double beyond = std::max(3.0 * out.stem_radius, out.stem_radius + 0.3);
+  for (std::size_t i = 0; i < turned.size(); ++i)
+    if (g.is_ground[i] && (turned.positions[i].head<2>() - foot).norm() > beyond) ++out.beyond_stem;
+  if (out.beyond_stem < std::max(kGroundBeyondStem, cloud.size() / 1000)) return out;
+  // Set aside: the ground outside the stem (within it, the lowest points are the stem's own foot
+  // and stay, so the tree keeps its height and its breast height), and whatever lies on the ground
+  // below the slice stems are found in outside a skirt around the stem (litter, low plants, the
+  // ground's own noise; left, it would be the trunk's foot).
+  const double bark = out.stem_radius + std::max(0.02, 0.1 * out.stem_radius);
+  const double skirt = 1.5 * out.stem_radius + 0.05;
+  const double low_slice = StemOptions{}.slice_bottom;
+  out.is_ground.assign(turned.size(), 0);
+  for (std::size_t i = 0; i < turned.size(); ++i) {
+    const double from_stem = (turned.positions[i].head<2>() - foot).norm();
+    if ((g.is_ground[i] && from_stem > bark) || (g.height[i] < low_slice && from_stem > skirt)) {
+      out.is_ground[i] = 1;
+      ++out.ground_points;
+    }
+  }
+  return out;
 }
 
 }  // namespace treeskel::forest

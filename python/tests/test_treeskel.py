@@ -226,6 +226,28 @@ def test_wood_only_skeleton_is_the_skeleton_of_the_wood():
     assert whole.positions[:, 0].max() > only.positions[:, 0].max() + 0.1
 
 
+def tree_on_ground(data):
+    """The bundled AdTree tree standing on a disc of ground 6 m across (points every 4 cm, 1 cm noise)."""
+    tree = np.loadtxt(data / "tree_adtree1.xyz")[:, :3]
+    base = tree[tree[:, 2] < tree[:, 2].min() + 0.3].mean(axis=0)
+    g = np.arange(-3.0, 3.0001, 0.04)
+    x, y = np.meshgrid(g, g)
+    keep = (np.hypot(x, y) > 0.12) & (np.hypot(x, y) < 3.0)
+    noise = np.random.default_rng(1).normal(0.0, 0.01, keep.sum())
+    ground = np.column_stack([base[0] + x[keep], base[1] + y[keep], tree[:, 2].min() + noise])
+    return np.vstack([ground, tree]), len(ground)
+
+
+def test_set_ground_aside_roots_the_skeleton_in_the_stem(data):
+    points, ground = tree_on_ground(data)
+    with pytest.warns(UserWarning, match="set aside .* points of ground .*set_ground_aside=True"):
+        aside = treeskel.extract_skeleton(points, set_ground_aside=True)
+    kept = treeskel.extract_skeleton(points)  # off by default: the ground coarsens the octree
+    alone = treeskel.extract_skeleton(points[ground:])
+    assert abs(len(aside) - len(alone)) < 0.05 * len(alone)
+    assert len(kept) < 0.5 * len(alone)
+
+
 def test_plot_runs_the_command(data, tmp_path):
     np.savetxt(tmp_path / "two.xyz", two_trees(data))
     result = treeskel.plot(tmp_path / "two.xyz", tmp_path / "out", segment_only=True, stem_slice=(0.3, 1.8))

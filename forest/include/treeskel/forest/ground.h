@@ -47,4 +47,28 @@ struct Ground {
 Ground classify_ground(const PointCloud& cloud, const GroundOptions& options = {},
                        const std::vector<std::uint8_t>* classes = nullptr);
 
+/// The ground a single tree's scan stands on, when it holds some (terrestrial scans of one tree often
+/// keep a disc of ground around the stem).
+struct GroundUnderTree {
+  std::vector<std::uint8_t> is_ground;  ///< per point: 1 for ground; empty when the scan holds none
+  std::size_t ground_points = 0;  ///< points set aside: the ground and what lies on it
+  std::size_t beyond_stem = 0;  ///< of the ground points found, those farther out than the stem's foot
+  double stem_radius = 0.0;     ///< the stem's radius in the slice above the ground (0: no stem seen)
+};
+
+/// The ground under one tree: classify_ground on the cloud turned so that `up` is its z, kept only
+/// when the stem stands on it: find_stems sees a stem above it (the thickest is taken) and at least
+/// `kGroundBeyondStem` of its points (and a thousandth of the cloud) lie farther out in plan than
+/// three stem radii and 0.3 m beyond the stem. Set aside are then the ground outside the stem (its
+/// radius + 10%, at least 2 cm: the stem's own foot stays, so the tree keeps its height) and what
+/// lies on the ground below the stems' slice (0.3 m; litter, low plants, the ground's noise) more
+/// than 1.5 stem radii (+ 5 cm) from the stem.
+/// A tree scanned without ground has, as its "ground", the lowest points of its stem, which lie
+/// within that circle: nothing is then set aside. Distances in metres, as plots'; a cloud taller
+/// than 200 units (not metres) or under 1 unit is left as it is.
+GroundUnderTree ground_under_tree(const PointCloud& cloud, const Eigen::Vector3d& up);
+
+/// Ground points beyond the stem that make a scan's ground (see ground_under_tree).
+constexpr std::size_t kGroundBeyondStem = 50;
+
 }  // namespace treeskel::forest
