@@ -97,8 +97,7 @@ int run(Settings& s) {
                 << " nodes have no radius; the pipe model fills them in from the others\n";
   } else {
     cloud = io::read_point_cloud(s.input);
-    ground = set_ground_aside(s.method, *cloud);
-    if (ground > 0 && !s.quiet && !s.json) std::cerr << "note: " << s.input << ": " << ground_note(ground, "--set-ground-aside") << '\n';
+    ground = set_ground_aside(s.method, *cloud, s.input, s.quiet || s.json);
     wood = keep_wood(s.method, *cloud, s.input, s.quiet || s.json);
     SkeletonOptions o = skeleton_options_for(s.method, *cloud);
     if (progress.active()) o.progress = [&](const std::string& stage, double done) { progress(stage, 0.05 + 0.6 * done); };

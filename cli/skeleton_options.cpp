@@ -125,11 +125,12 @@ void require_skeleton_extension(const std::string& path) {
     throw OptionError(path + ": unknown skeleton extension '." + io::extension_of(path) + "'; use .ply, .obj or .json");
 }
 
-std::size_t set_ground_aside(const SkeletonSettings& s, PointCloud& cloud) {
+std::size_t set_ground_aside(const SkeletonSettings& s, PointCloud& cloud, const std::string& input, bool quiet) {
   if (!s.ground_aside) return 0;
   const forest::GroundUnderTree g = forest::ground_under_tree(cloud, parse_up(s.up));
   if (g.ground_points == 0) return 0;
   cloud = forest::select_points(cloud, g.is_ground, 0);
+  if (!quiet) std::cerr << "note: " << input << ": " << ground_note(g.ground_points, "--set-ground-aside") << '\n';
   return g.ground_points;
 }
 

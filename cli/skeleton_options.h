@@ -52,9 +52,9 @@ void require_skeleton_extension(const std::string& path);
 WoodSplit keep_wood(const SkeletonSettings& settings, PointCloud& cloud, const std::string& input, bool quiet);
 
 /// With --set-ground-aside: sets aside the ground the tree's scan stands on, when it holds some
-/// (forest::ground_under_tree: ground reaching out beyond the stem's foot), and returns how many
-/// points that was (0 when none was found, or without the option).
-std::size_t set_ground_aside(const SkeletonSettings& settings, PointCloud& cloud);
+/// (forest::ground_under_tree: ground reaching out beyond the stem's foot), says how many points on
+/// stderr unless `quiet`, and returns that count (0 when none was found, or without the option).
+std::size_t set_ground_aside(const SkeletonSettings& settings, PointCloud& cloud, const std::string& input, bool quiet);
 
 /// Adds --leaves FILE (the points --wood-only set aside) to `command`.
 void add_leaves_option(CLI::App& command, std::string& file);

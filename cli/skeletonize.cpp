@@ -1,6 +1,5 @@
 // treeskel skeletonize INPUT -o OUTPUT
 #include "commands.h"
-#include "model_warnings.h"
 #include "report.h"
 #include "skeleton_options.h"
 #include "view_options.h"
@@ -54,8 +53,7 @@ int run(Settings& s) {
   Progress progress(s.quiet || s.json);
   progress("reading " + fs::path(s.input).filename().string(), 0.0);
   PointCloud cloud = io::read_point_cloud(s.input);
-  const std::size_t ground = set_ground_aside(s.method, cloud);
-  if (ground > 0 && !s.quiet && !s.json) std::cerr << "note: " << s.input << ": " << ground_note(ground, "--set-ground-aside") << '\n';
+  const std::size_t ground = set_ground_aside(s.method, cloud, s.input, s.quiet || s.json);
   const WoodSplit wood = keep_wood(s.method, cloud, s.input, s.quiet || s.json);
 
   SkeletonOptions o = skeleton_options_for(s.method, cloud);

@@ -189,16 +189,15 @@ PySkeleton extract(const py::object& points, const Options& o) {
   PySkeleton out;
   out.cloud = cloud_from(points);
   if (o.method.ground_aside) {  // the ground the tree stands on, set aside as `--set-ground-aside` does
-    forest::GroundUnderTree ground;
+    auto kept = std::make_shared<Cloud>(*out.cloud);
+    std::size_t ground = 0;
     {
       py::gil_scoped_release free;
-      ground = forest::ground_under_tree(out.cloud->cloud, cli::parse_up(o.method.up));
+      ground = cli::set_ground_aside(o.method, kept->cloud, kept->source, true);
     }
-    if (ground.ground_points > 0) {
-      auto kept = std::make_shared<Cloud>(*out.cloud);
-      kept->cloud = forest::select_points(kept->cloud, ground.is_ground, 0);
+    if (ground > 0) {
       out.cloud = std::move(kept);
-      warn_user(out.cloud.get(), cli::ground_note(ground.ground_points, "set_ground_aside=True"));
+      warn_user(out.cloud.get(), cli::ground_note(ground, "set_ground_aside=True"));
     }
   }
   if (o.method.wood_only) {  // the skeleton, the radii and the measurements of the wood alone
