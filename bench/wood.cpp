@@ -5,7 +5,7 @@
 // leafless tree, every one of them is wood called a leaf). For a labelled cloud it also extracts the
 // skeleton (default options) of its labelled wood, of the wood this rule keeps and of the whole leafy
 // cloud, and gives the SPD of the latter two against the first, both ways, over the cloud's longest side.
-// Usage: bench_wood [--seeds N] [--threshold T] [--join N] [CLOUD...]   (results in docs/plots.md)
+// Usage: bench_wood [--seeds N] [--threshold T] [--ways-weight W] [--ways-reference N] [--join N] [CLOUD...]   (results in docs/plots.md)
 #include "treeskel/eval/metrics.h"
 #include "treeskel/eval/plots.h"
 #include "treeskel/forest/wood.h"
@@ -77,9 +77,11 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) seeds = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--threshold") && i + 1 < argc) options.threshold = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--ways-weight") && i + 1 < argc) options.ways_weight = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--ways-reference") && i + 1 < argc) options.ways_reference = std::atof(argv[++i]);
     else if (!std::strcmp(argv[i], "--join") && i + 1 < argc) options.join_parts = static_cast<std::size_t>(std::atol(argv[++i]));
     else if (argv[i][0] == '-') {
-      std::fprintf(stderr, "usage: bench_wood [--seeds N] [--threshold T] [--join N] [CLOUD...]\n");
+      std::fprintf(stderr, "usage: bench_wood [--seeds N] [--threshold T] [--ways-weight W] [--ways-reference N] [--join N] [CLOUD...]\n");
       return 2;
     } else clouds.push_back(argv[i]);
   }

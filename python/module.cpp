@@ -499,12 +499,14 @@ PYBIND11_MODULE(_treeskel, m) {
   m.attr("_built_package") = TREESKEL_BUILT_PACKAGE;
   m.attr("_installed_executable") = TREESKEL_INSTALLED_EXE;
 
-  m.def("separate_wood", [](const py::object& points) {
+  m.def("separate_wood", [](const py::object& points, const std::string& up) {
     const std::shared_ptr<const Cloud> c = cloud_from(points);
+    forest::WoodOptions options;
+    options.up = cli::parse_up(up);
     forest::WoodLeaf w;
     {
       py::gil_scoped_release free;
-      w = forest::separate_wood(c->cloud);
+      w = forest::separate_wood(c->cloud, options);
     }
     py::array_t<bool> wood(static_cast<py::ssize_t>(w.is_wood.size()));
     py::array_t<float> score(static_cast<py::ssize_t>(w.score.size()));
@@ -513,10 +515,11 @@ PYBIND11_MODULE(_treeskel, m) {
       score.mutable_at(p) = w.score[p];
     }
     return py::make_tuple(wood, score);
-  }, py::arg("points"),
-        "wood, score = separate_wood(points): per point, whether it looks like wood (a bool array) and its "
+  }, py::arg("points"), py::arg("up") = "z",
+        "wood, score = separate_wood(points, up='z'): per point, whether it looks like wood (a bool array) and its "
         "score (wood above -0.4, and the few points that join cut-off wood back), as `wood_only=True` and `--wood-only` keep it. `points`: an (N, 3) array, a "
-        "file name or a Cloud");
+        "file name or a Cloud; `up`: the axis the tree grows along (x, y, z or a vector such as '0,0,1'): in a cloud in leaf, "
+        "the ways from the tree's base through each point count too");
 
   m.def("segment_plot", [](const py::object& points, double voxel, double max_gap, std::pair<double, double> stem_slice,
                            double ground_cell, double ground_tolerance) {

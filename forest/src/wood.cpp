@@ -46,29 +46,89 @@ double median_reach(std::vector<double> reach) {
 /// not infinitely dense: it counts as a thousandth of the median.
 double density_term(double reach, double median) { return -0.25 * std::log(std::max(reach, median * 1e-3) / median); }
 
-/// The wood cut off from the largest part of it by points called leaves (a twig in a crown whose bark
-/// looks like foliage for a stretch) joined back: the points called leaves on the shortest way back
-/// from each part of `min_part` points or more, the way measured along the neighbour graph
-/// (`nearest`, each point's kSmooth nearest, both ways) by the length it runs through such points.
-/// Returns how many points it turned to wood.
-std::size_t join_wood(const PointCloud& cloud, const std::vector<std::uint32_t>& nearest, std::vector<std::uint8_t>& wood,
-                      std::size_t min_part) {
-  const std::size_t n = cloud.size();
-  // The neighbour graph, both ways, as compressed rows.
-  std::vector<std::uint32_t> start(n + 1, 0);
+/// The neighbour graph, both ways, as compressed rows: point p's neighbours are
+/// adjacent[start[p] .. start[p + 1]).
+struct Graph {
+  std::vector<std::uint32_t> start, adjacent;
+};
+
+/// The graph of each point's kSmooth nearest (`nearest`, itself first), both ways.
+Graph neighbour_graph(std::size_t n, const std::vector<std::uint32_t>& nearest) {
+  Graph g;
+  g.start.assign(n + 1, 0);
   for (std::size_t p = 0; p < n; ++p)
     for (std::size_t k = 1; k < kSmooth; ++k) {
-      ++start[p + 1];
-      ++start[nearest[p * kSmooth + k] + 1];
+      ++g.start[p + 1];
+      ++g.start[nearest[p * kSmooth + k] + 1];
     }
-  for (std::size_t p = 0; p < n; ++p) start[p + 1] += start[p];
-  std::vector<std::uint32_t> next(start.begin(), start.end() - 1), adjacent(start[n]);
+  for (std::size_t p = 0; p < n; ++p) g.start[p + 1] += g.start[p];
+  std::vector<std::uint32_t> next(g.start.begin(), g.start.end() - 1);
+  g.adjacent.resize(g.start[n]);
   for (std::size_t p = 0; p < n; ++p)
     for (std::size_t k = 1; k < kSmooth; ++k) {
       const std::uint32_t q = nearest[p * kSmooth + k];
-      adjacent[next[p]++] = q;
-      adjacent[next[q]++] = static_cast<std::uint32_t>(p);
+      g.adjacent[next[p]++] = q;
+      g.adjacent[next[q]++] = static_cast<std::uint32_t>(p);
     }
+  return g;
+}
+
+/// Per point, how many points' shortest way down the neighbour graph to the tree's base passes
+/// through it (itself included): the shortest-path tree from the lowest point along `up`, by
+/// Euclidean length, each point's count the size of its subtree. A part of the graph the base does
+/// not reach gets a tree of its own from its own lowest point. Wood carries the ways to everything
+/// beyond it; a cluster of leaves, at the end of the ways, carries little.
+std::vector<double> ways_through(const PointCloud& cloud, const Graph& graph, const Eigen::Vector3d& up) {
+  const std::size_t n = cloud.size();
+  std::vector<double> height(n);
+  for (std::size_t p = 0; p < n; ++p) height[p] = cloud.positions[p].dot(up);
+  std::vector<std::uint32_t> by_height(n);
+  for (std::size_t p = 0; p < n; ++p) by_height[p] = static_cast<std::uint32_t>(p);
+  std::stable_sort(by_height.begin(), by_height.end(), [&](std::uint32_t a, std::uint32_t b) { return height[a] < height[b]; });
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  std::vector<double> cost(n, std::numeric_limits<double>::infinity());
+  std::vector<std::uint32_t> from(n, kNone), settled;
+  std::vector<std::uint8_t> done(n, 0);
+  settled.reserve(n);
+  using Item = std::pair<double, std::uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  for (const std::uint32_t base : by_height) {
+    if (done[base]) continue;
+    cost[base] = 0;
+    queue.emplace(0.0, base);
+    while (!queue.empty()) {
+      const auto [c, p] = queue.top();
+      queue.pop();
+      if (done[p]) continue;
+      done[p] = 1;
+      settled.push_back(p);
+      for (std::uint32_t e = graph.start[p]; e < graph.start[p + 1]; ++e) {
+        const std::uint32_t q = graph.adjacent[e];
+        const double d = c + (cloud.positions[q] - cloud.positions[p]).norm();
+        if (!done[q] && d < cost[q]) {
+          cost[q] = d;
+          from[q] = p;
+          queue.emplace(d, q);
+        }
+      }
+    }
+  }
+  std::vector<double> count(n, 1.0);
+  for (std::size_t i = settled.size(); i-- > 0;)
+    if (from[settled[i]] != kNone) count[from[settled[i]]] += count[settled[i]];
+  return count;
+}
+
+/// The wood cut off from the largest part of it by points called leaves (a twig in a crown whose bark
+/// looks like foliage for a stretch) joined back: the points called leaves on the shortest way back
+/// from each part of `min_part` points or more, the way measured along the neighbour graph
+/// (`graph`) by the length it runs through such points.
+/// Returns how many points it turned to wood.
+std::size_t join_wood(const PointCloud& cloud, const Graph& graph, std::vector<std::uint8_t>& wood,
+                      std::size_t min_part) {
+  const std::size_t n = cloud.size();
+  const std::vector<std::uint32_t>& start = graph.start;
+  const std::vector<std::uint32_t>& adjacent = graph.adjacent;
   // The parts of the wood; the largest (the lowest representative of equals) is the stem's.
   DisjointSets<std::uint32_t> parts(n);
   for (std::size_t p = 0; p < n; ++p)
@@ -168,14 +228,32 @@ WoodLeaf separate_wood(const PointCloud& cloud, const WoodOptions& options) {
   const double median = median_reach(reach);
   std::vector<double> raw(n);
   for (std::size_t p = 0; p < n; ++p) raw[p] = partial[p] + density_term(reach[p], median);
+  // The shape and density, averaged over the 20 nearest.
+  std::size_t leaves = 0;
   for (std::size_t p = 0; p < n; ++p) {
     double s = 0;
     for (std::size_t k = 0; k < kSmooth; ++k) s += raw[nearest[p * kSmooth + k]];
     s /= static_cast<double>(kSmooth);
     out.score[p] = static_cast<float>(s);
-    out.is_wood[p] = s > options.threshold;
+    leaves += !(s > options.threshold);
   }
-  if (options.join_parts > 0 && std::count(out.is_wood.begin(), out.is_wood.end(), 1) > 0) out.joined = join_wood(cloud, nearest, out.is_wood, options.join_parts);
+  const Graph graph = neighbour_graph(n, nearest);
+  // A cloud in leaf (by the share the shape and density call leaves) also weighs the ways through
+  // each point: its leaves hang at the ends of the ways, and its twigs carry them.
+  const double share = static_cast<double>(leaves) / static_cast<double>(n);
+  const double span = options.ways_full_share - options.ways_from_share;
+  out.in_leaf = span > 0 ? std::clamp((share - options.ways_from_share) / span, 0.0, 1.0) : static_cast<double>(share >= options.ways_full_share);
+  if (options.ways_weight != 0 && out.in_leaf > 0) {
+    const std::vector<double> ways = ways_through(cloud, graph, options.up.normalized());
+    const double weight = out.in_leaf * options.ways_weight;
+    for (std::size_t p = 0; p < n; ++p) {
+      double most = 1;
+      for (std::size_t k = 0; k < kSmooth; ++k) most = std::max(most, ways[nearest[p * kSmooth + k]]);
+      out.score[p] += static_cast<float>(weight * std::log2(most / options.ways_reference));
+    }
+  }
+  for (std::size_t p = 0; p < n; ++p) out.is_wood[p] = out.score[p] > options.threshold;
+  if (options.join_parts > 0 && std::count(out.is_wood.begin(), out.is_wood.end(), 1) > 0) out.joined = join_wood(cloud, graph, out.is_wood, options.join_parts);
   out.wood_points = static_cast<std::size_t>(std::count(out.is_wood.begin(), out.is_wood.end(), 1));
   out.leaf_points = n - out.wood_points;
   return out;
@@ -184,7 +262,10 @@ WoodLeaf separate_wood(const PointCloud& cloud, const WoodOptions& options) {
 double estimate_leaf_share(const PointCloud& cloud, const LeafShareSample& sample) {
   const std::size_t n = cloud.size(), sites = std::max<std::size_t>(sample.sites, 1);
   const std::size_t crop = std::max(sample.crop, kNear + 1), inner = std::min(std::max<std::size_t>(sample.inner, 1), crop);
-  if (n <= std::max(sample.whole_up_to, kNear * sites)) return separate_wood(cloud).leaf_share();
+  WoodOptions shape_only;
+  shape_only.ways_weight = 0;
+  shape_only.join_parts = 0;
+  if (n <= std::max(sample.whole_up_to, kNear * sites)) return separate_wood(cloud, shape_only).leaf_share();
   // The points in a grid of about 8 a cell over the bounding cube, sorted by cell (a counting sort:
   // one pass), so that each site's crop is found by rings of cells around it.
   Eigen::AlignedBox3d box;
@@ -282,7 +363,7 @@ double estimate_leaf_share(const PointCloud& cloud, const LeafShareSample& sampl
   for (const Crop& c : crops)
     for (const double r : c.reach)
       if (!std::isnan(r)) reach.push_back(r);
-  if (reach.empty()) return separate_wood(cloud).leaf_share();
+  if (reach.empty()) return separate_wood(cloud, shape_only).leaf_share();
   const double median = median_reach(std::move(reach));
   const WoodOptions defaults;
   std::size_t leaves = 0, total = 0;

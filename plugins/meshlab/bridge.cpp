@@ -175,7 +175,9 @@ Source source_of(const std::vector<double>& xyz, const SkeletonParams& sp) {
     s.leafy = cli::leafy_warning(s.cloud, "the filter's \"Wood only\" option");
     return s;
   }
-  const forest::WoodLeaf w = forest::separate_wood(s.cloud);
+  forest::WoodOptions options;
+  options.up = up_of(sp);
+  const forest::WoodLeaf w = forest::separate_wood(s.cloud, options);
   const PointCloud leaves = forest::select_points(s.cloud, w.is_wood, 0);
   s.leaves.reserve(3 * leaves.size());
   for (const auto& p : leaves.positions) append(s.leaves, p + leaves.offset);

@@ -207,8 +207,8 @@ def test_separate_wood_tells_bark_from_leaves():
     assert wood[:bark].mean() > 0.95 and (~wood[bark:]).mean() > 0.85
     # Wood: every point scoring above -0.4, and the few joining cut-off wood back through the leaves.
     assert wood[score > -0.4].all() and (wood & (score <= -0.4)).sum() < 50
-    # The same cloud lying on its side: the same labels (the score has no up axis).
-    assert (treeskel.separate_wood(points[:, [0, 2, 1]])[0] == wood).mean() > 0.99
+    # The same cloud lying on its side, told its up axis: the same labels.
+    assert (treeskel.separate_wood(points[:, [0, 2, 1]], up="y")[0] == wood).mean() > 0.99
 
 
 def test_wood_only_skeleton_is_the_skeleton_of_the_wood():

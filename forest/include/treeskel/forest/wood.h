@@ -6,9 +6,14 @@
 ///   0.25 planarity - scattering - 0.25 ln(d40 / median d40)
 /// (eigenvalues l0 <= l1 <= l2 of the covariance of the 40 nearest: planarity (l1 - l0) / l2,
 /// scattering l0 / l2; d40 the distance to the 40th, the median over the cloud), averaged over the
-/// 20 nearest; a point is wood above the threshold. Unsupervised and scale-free: no training, no
-/// units, no up axis. Its limits are measured in docs/plots.md: thin twigs high in a crown look like
-/// leaves to it (on leafless trees it calls up to 10% of the points leaves), and it leaves about a
+/// 20 nearest. A cloud in leaf (one in which that score calls 16% of the points leaves or more; in
+/// proportion from 10%) also weighs the ways through each point: in the shortest-path tree of the
+/// neighbour graph from the tree's base (its lowest point along `up`), the most points whose way to
+/// the base passes through one of the point's 20 nearest, N, adds 0.1 log2(N / 45). Leaves hang at the
+/// ends of the ways; the twigs among them carry the ways to everything beyond. A point is wood above
+/// the threshold. Unsupervised and free of units: no training; the up axis counts only in a cloud
+/// in leaf. Its limits are measured in docs/plots.md: on leafless trees it calls up to 10% of the
+/// points leaves (thin twigs high in a crown look like leaves to the shape), and it leaves about a
 /// tenth of the foliage in.
 #pragma once
 
@@ -26,6 +31,16 @@ struct WoodOptions {
   /// Parts of the wood of this many points or more that the leaves cut off from the largest part are
   /// joined back to it (0: never): the points called leaves on the shortest way back become wood.
   std::size_t join_parts = 40;
+  /// The axis the tree grows along: the base, where the ways through the wood start, is its lowest point.
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  /// In a cloud in leaf, the score gains ways_weight log2(N / ways_reference), N the most points whose
+  /// shortest way to the base passes through one of a point's 20 nearest (0: never).
+  double ways_weight = 0.1;
+  double ways_reference = 45;
+  /// How much a cloud is in leaf, from the share of its points the shape and density alone call
+  /// leaves: not below ways_from_share, fully from ways_full_share, in proportion between.
+  double ways_from_share = 0.10;
+  double ways_full_share = 0.16;
 };
 
 struct WoodLeaf {
@@ -33,6 +48,7 @@ struct WoodLeaf {
   std::vector<float> score;           ///< per point: the smoothed score (above the threshold: wood)
   std::size_t wood_points = 0, leaf_points = 0;
   std::size_t joined = 0;  ///< points called leaves that became wood to join the wood's parts
+  double in_leaf = 0;      ///< 0-1: how much the ways through the points were weighed (WoodOptions)
   double leaf_share() const;
 };
 
@@ -56,8 +72,8 @@ struct LeafShareSample {
   std::size_t inner = 50;
 };
 
-/// The share of `cloud`'s points `separate_wood` would call leaves (before it joins cut-off wood
-/// back), estimated where the cloud is large: a counting sort of its points into cells and the rule on
+/// The share of `cloud`'s points the shape and density of `separate_wood`'s score call leaves (before
+/// the ways through the points count and cut-off wood is joined back), estimated where the cloud is large: a counting sort of its points into cells and the rule on
 /// sites x inner of them, 0.02-0.04 s up to 150k points and 0.05-0.07 s at 1-1.5 M. Deterministic, and
 /// the same for any number of threads.
 double estimate_leaf_share(const PointCloud& cloud, const LeafShareSample& sample = {});
