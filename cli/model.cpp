@@ -173,7 +173,7 @@ int run(Settings& s) {
   j["output"] = s.output;
   if (cloud) j["points"] = cloud->size();
   if (cloud) j["ground_set_aside"] = ground;
-  if (wood.run) j["wood_only"] = {{"wood_points", wood.wood_points}, {"leaf_points", wood.leaf_points}};
+  if (wood.run) j["wood_only"] = {{"wood_points", wood.wood_points}, {"leaf_points", wood.leaf_points}, {"in_leaf", wood.in_leaf}};
   j["nodes"] = skeleton.node_count();
   j["branch_points"] = count_branch_points(skeleton.graph);
   j["endpoints"] = count_endpoints(skeleton.graph);

@@ -163,12 +163,14 @@ std::string ground_note(std::size_t points, const std::string& option) {
          " points of ground and what lies on it around the stem's foot (" + option + ")";
 }
 
-std::string wood_split(std::size_t wood_points, std::size_t leaf_points) {
+std::string wood_split(std::size_t wood_points, std::size_t leaf_points, double in_leaf) {
   const std::size_t all = wood_points + leaf_points;
   std::ostringstream line;
   line << wood_points << " of " << all << " points look like wood; " << leaf_points << " (" << std::fixed
        << std::setprecision(1) << (all ? 100.0 * static_cast<double>(leaf_points) / static_cast<double>(all) : 0.0)
        << "%) look like leaves and are set aside";
+  if (in_leaf >= 1.0) line << " (a cloud in leaf: the ways from its base through the points counted)";
+  else if (in_leaf > 0.0) line << " (partly in leaf: the ways from its base through the points counted at " << std::setprecision(2) << in_leaf << " of their weight)";
   return line.str();
 }
 

@@ -59,8 +59,9 @@ std::string leafy_warning(const PointCloud& cloud, const std::string& remedy = "
 inline constexpr std::size_t kFewestWoodPoints = 10;
 
 /// How the wood rule split a cloud, for the log or stderr after the option's name: "W of N points
-/// look like wood; L (x%) look like leaves and are set aside".
-std::string wood_split(std::size_t wood_points, std::size_t leaf_points);
+/// look like wood; L (x%) look like leaves and are set aside", and when `in_leaf` (forest::WoodLeaf)
+/// is above 0, that the ways through the points counted and how much.
+std::string wood_split(std::size_t wood_points, std::size_t leaf_points, double in_leaf = 0.0);
 
 /// The note for `points` points of ground set aside (no input name), naming `option`, the front
 /// end's way that asked for it.

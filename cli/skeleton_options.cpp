@@ -148,10 +148,11 @@ WoodSplit keep_wood(const SkeletonSettings& s, PointCloud& cloud, const std::str
   split.run = true;
   split.wood_points = w.wood_points;
   split.leaf_points = w.leaf_points;
+  split.in_leaf = w.in_leaf;
   split.leaves = forest::select_points(cloud, w.is_wood, 0);
   const std::size_t all = cloud.size();
   cloud = forest::select_points(cloud, w.is_wood, 1);
-  if (!quiet) std::cerr << "--wood-only: " << wood_split(w.wood_points, w.leaf_points) << '\n';
+  if (!quiet) std::cerr << "--wood-only: " << wood_split(w.wood_points, w.leaf_points, w.in_leaf) << '\n';
   if (cloud.size() < kFewestWoodPoints)
     throw InputError(input + ": --wood-only found " + std::to_string(cloud.size()) + " of " + std::to_string(all) +
                      " points that look like wood; too few for a skeleton (leave --wood-only off)");

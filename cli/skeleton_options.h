@@ -25,6 +25,7 @@ struct SkeletonSettings {
 struct WoodSplit {
   bool run = false;
   std::size_t wood_points = 0, leaf_points = 0;
+  double in_leaf = 0;  ///< 0-1: how much the ways through the points counted (forest::WoodLeaf)
   PointCloud leaves;
   std::string leafy_warning;  ///< without --wood-only: the warning for a leafy cloud, or empty
 };

@@ -183,7 +183,7 @@ Source source_of(const std::vector<double>& xyz, const SkeletonParams& sp) {
   for (const auto& p : leaves.positions) append(s.leaves, p + leaves.offset);
   const std::size_t all = s.cloud.size();
   s.cloud = forest::select_points(s.cloud, w.is_wood, 1);
-  s.wood = "treeskel: wood only: " + cli::wood_split(w.wood_points, w.leaf_points);
+  s.wood = "treeskel: wood only: " + cli::wood_split(w.wood_points, w.leaf_points, w.in_leaf);
   if (s.cloud.size() < cli::kFewestWoodPoints)
     throw InputError("\"Wood only\" found " + std::to_string(s.cloud.size()) + " of " + std::to_string(all) +
                      " points that look like wood; too few for a skeleton (turn it off)");

@@ -532,8 +532,10 @@ TEST(Cli, WoodOnlySetsTheLeavesOfALeafyTreeAside) {
   const Result r = run("model " + cloud + " --wood-only --leaves leaves.ply -o m.ply --report r.json", dir.root());
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("--wood-only: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("a cloud in leaf: the ways from its base through the points counted"), std::string::npos) << r.out;
   std::ifstream in(dir.path("r.json"));
   const auto report = nlohmann::json::parse(in);
+  EXPECT_EQ(report.at("wood_only").at("in_leaf").get<double>(), 1.0);
   const std::size_t wood = report.at("wood_only").at("wood_points"), leaves = report.at("wood_only").at("leaf_points");
   EXPECT_EQ(wood + leaves, 36478u);
   EXPECT_EQ(report.at("points").get<std::size_t>(), wood);
