@@ -12,6 +12,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <queue>
 
 namespace treeskel::forest {
@@ -237,14 +238,20 @@ WoodLeaf separate_wood(const PointCloud& cloud, const WoodOptions& options) {
     out.score[p] = static_cast<float>(s);
     leaves += !(s > options.threshold);
   }
-  const Graph graph = neighbour_graph(n, nearest);
+  // The neighbour graph, built once if the ways or the joining need it.
+  std::optional<Graph> graph;
+  const auto neighbours = [&]() -> const Graph& {
+    if (!graph) graph = neighbour_graph(n, nearest);
+    return *graph;
+  };
   // A cloud in leaf (by the share the shape and density call leaves) also weighs the ways through
   // each point: its leaves hang at the ends of the ways, and its twigs carry them.
   const double share = static_cast<double>(leaves) / static_cast<double>(n);
   const double span = options.ways_full_share - options.ways_from_share;
-  out.in_leaf = span > 0 ? std::clamp((share - options.ways_from_share) / span, 0.0, 1.0) : static_cast<double>(share >= options.ways_full_share);
-  if (options.ways_weight != 0 && out.in_leaf > 0) {
-    const std::vector<double> ways = ways_through(cloud, graph, options.up.normalized());
+  if (options.ways_weight != 0)
+    out.in_leaf = span > 0 ? std::clamp((share - options.ways_from_share) / span, 0.0, 1.0) : static_cast<double>(share >= options.ways_full_share);
+  if (out.in_leaf > 0) {
+    const std::vector<double> ways = ways_through(cloud, neighbours(), options.up.normalized());
     const double weight = out.in_leaf * options.ways_weight;
     for (std::size_t p = 0; p < n; ++p) {
       double most = 1;
@@ -253,7 +260,8 @@ WoodLeaf separate_wood(const PointCloud& cloud, const WoodOptions& options) {
     }
   }
   for (std::size_t p = 0; p < n; ++p) out.is_wood[p] = out.score[p] > options.threshold;
-  if (options.join_parts > 0 && std::count(out.is_wood.begin(), out.is_wood.end(), 1) > 0) out.joined = join_wood(cloud, graph, out.is_wood, options.join_parts);
+  if (options.join_parts > 0 && std::count(out.is_wood.begin(), out.is_wood.end(), 1) > 0)
+    out.joined = join_wood(cloud, neighbours(), out.is_wood, options.join_parts);
   out.wood_points = static_cast<std::size_t>(std::count(out.is_wood.begin(), out.is_wood.end(), 1));
   out.leaf_points = n - out.wood_points;
   return out;
