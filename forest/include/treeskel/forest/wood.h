@@ -13,8 +13,8 @@
 /// ends of the ways; the twigs among them carry the ways to everything beyond. A point is wood above
 /// the threshold. Unsupervised and free of units: no training; the up axis counts only in a cloud
 /// in leaf. Its limits are measured in docs/plots.md: on leafless trees it calls up to 10% of the
-/// points leaves (thin twigs high in a crown look like leaves to the shape), and it leaves about a
-/// tenth of the foliage in.
+/// points leaves (thin twigs high in a crown look like leaves to the shape), and a fifth of arbor's
+/// foliage and a sixth of the synthetic trees' stay in with the wood.
 #pragma once
 
 #include "treeskel/point_cloud.h"
