@@ -336,14 +336,11 @@ class Uniter {
       }
       std::vector<Piece> smaller;
       for (const auto& part : parts) sweep(part, smaller);
-      std::vector<std::size_t> near;
-      for (std::size_t i = 0; i < smaller.size(); ++i) {
-        const Box b = bounding_box(smaller[i].mesh);
-        if (std::any_of(spots.begin(), spots.end(), [&](const Box& s) { return s.intersects(b); })) near.push_back(i);
-      }
       std::vector<Piece> at;  // the parts at the spots
-      for (std::size_t i = 0; i < smaller.size(); ++i)
-        (std::find(near.begin(), near.end(), i) != near.end() ? at : aside).push_back(std::move(smaller[i]));
+      for (auto& p : smaller) {
+        const Box b = bounding_box(p.mesh);
+        (std::any_of(spots.begin(), spots.end(), [&](const Box& s) { return s.intersects(b); }) ? at : aside).push_back(std::move(p));
+      }
       if (at.size() != 1) return unite(unite(base, std::move(at)), std::move(aside));  // none, or several: no one to split
       piece = std::move(at.front());
       if (st_.pieces > 0) --st_.pieces;  // split again, not united
