@@ -220,6 +220,7 @@ int run(Settings& s) {
                {"pieces_united", sweep_stats.pieces},
                {"unions", sweep_stats.unions},
                {"pieces_apart", sweep_stats.pieces_apart},
+               {"pieces_nudged", sweep_stats.pieces_nudged},
                {"pieces_failed", sweep_stats.pieces_failed},
                {"welded_edges", sweep_stats.welded_edges},
                {"float_crossings", sweep_stats.float_crossings}};

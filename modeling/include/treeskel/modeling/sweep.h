@@ -95,6 +95,7 @@ struct SweepStats {
   std::size_t pieces = 0;
   std::size_t unions = 0;          ///< corefinements run to unite the pieces (retries included)
   std::size_t pieces_apart = 0;    ///< pieces the union refused, kept as components of their own
+  std::size_t pieces_nudged = 0;   ///< times a piece was moved by 1e-5 of the extent to clear a float crossing
   /// Pieces missing from the mesh: swept even alone only as a single failing segment, or left out
   /// because uniting them made the mesh cross itself (in the floats files hold) even split down to
   /// single segments, or past the union's budget (2000 pieces, 200 unions a tree; 8 pieces a group
