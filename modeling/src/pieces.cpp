@@ -331,11 +331,7 @@ class Uniter {
   bool nudge(std::vector<Piece>& pieces, const std::vector<Box>& spots) {
     Piece* chosen = nullptr;
     for (auto& p : pieces) {
-      const auto faces = p.mesh.faces();
-      const bool at = std::any_of(faces.begin(), faces.end(), [&](auto f) {
-        const Box fb = face_box(p.mesh, f);
-        return std::any_of(spots.begin(), spots.end(), [&](const Box& s) { return s.intersects(fb); });
-      });
+      const bool at = !faces_touching(p.mesh, spots).empty();
       if (at && (!chosen || std::make_pair(p.nudges, p.mesh.n_faces()) < std::make_pair(chosen->nudges, chosen->mesh.n_faces())))
         chosen = &p;
     }
