@@ -75,11 +75,11 @@ fs::path output_path(const BatchSettings& s, const BatchInput& in, const std::st
 /// The tree's outputs, its report last.
 std::vector<fs::path> outputs_of(const BatchSettings& s, const BatchInput& in) {
   std::vector<fs::path> out;
-  if (!s.model.empty()) out.push_back(output_path(s, in, "." + s.model));
+  if (!s.model.empty()) out.push_back(output_path(s, in, s.model_suffix + "." + s.model));
   if (!s.skeleton.empty()) out.push_back(output_path(s, in, "_skeleton." + s.skeleton));
   if (s.html) out.push_back(output_path(s, in, ".html"));
   if (s.preview) out.push_back(output_path(s, in, ".png"));
-  if (s.method.wood_only) out.push_back(output_path(s, in, "_leaves.ply"));
+  if (may_set_leaves_aside(s.method)) out.push_back(output_path(s, in, "_leaves.ply"));
   out.push_back(output_path(s, in, "_report.json"));
   return out;
 }
@@ -94,8 +94,9 @@ std::vector<std::string> command_for(const BatchSettings& s, const BatchRow& row
   }
   if (s.html) args.insert(args.end(), {"--html", output_path(s, row.input, ".html").string()});
   if (s.preview) args.insert(args.end(), {"--preview", output_path(s, row.input, ".png").string()});
-  if (s.method.wood_only) args.insert(args.end(), {"--leaves", output_path(s, row.input, "_leaves.ply").string()});
+  if (may_set_leaves_aside(s.method)) args.insert(args.end(), {"--leaves", output_path(s, row.input, "_leaves.ply").string()});
   args.insert(args.end(), {"--report", row.report.string(), "-q"});
+  args.insert(args.end(), s.defaults.begin(), s.defaults.end());
   append_given(s.passed, args);
   return args;
 }
@@ -552,7 +553,7 @@ Command add_batch(CLI::App& app) {
       "Convert many trees: every cloud named, found in a folder (recursively) or matching a pattern, each by a "
       "treeskel process of its own, several at a time; a tree that fails is one error row and the rest go on.\n"
       "Writes OUTDIR/NAME.glb (or --model FORMAT), NAME_skeleton.FORMAT with --skeleton, NAME_leaves.ply with "
-      "--wood-only (the points it set aside), NAME_report.json, and "
+      "--wood-only or --wood-if-leafy (the points set aside), NAME_report.json, and "
       "summary.csv and summary.json with one row per tree (input, status, seconds, points, height, DBH, "
       "volume, branch counts, coverage, warnings, error). NAME is the input's file name without its "
       "extension, or for a file found in a folder its path below that folder. Exit code 0 when every tree "

@@ -20,6 +20,7 @@ struct BatchSettings {
   std::vector<std::string> inputs;
   std::string out_dir;
   std::string model;     ///< mesh format ("" for none)
+  std::string model_suffix;  ///< after NAME in the model's file name (plot's "_mesh" for ply, beside the cloud NAME.ply)
   std::string skeleton;  ///< skeleton format ("" for none)
   bool html = false;     ///< a page per tree, and index.html
   bool preview = false;  ///< a PNG per tree (shown in index.html)
@@ -32,6 +33,7 @@ struct BatchSettings {
   ModelSettings model_settings;  ///< the same
   std::vector<const CLI::Option*> passed;      ///< the options passed on to every tree's command
   std::vector<const CLI::Option*> model_only;  ///< ... of those, the ones only `model` has
+  std::vector<std::string> defaults;           ///< given to every tree's command before those (plot's --wood-if-leafy)
 };
 
 /// One tree of the batch and what became of it.

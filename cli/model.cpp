@@ -77,8 +77,9 @@ int run(Settings& s) {
   WoodSplit wood;
   std::size_t ground = 0;
   const bool from_skeleton = io::looks_like_skeleton(s.input);
-  if (from_skeleton && s.method.wood_only)
-    throw OptionError("--wood-only sets leaves aside from a point cloud; " + s.input + " is a skeleton");
+  if (from_skeleton && may_set_leaves_aside(s.method))
+    throw OptionError(std::string(s.method.wood_only ? "--wood-only" : "--wood-if-leafy") +
+                      " sets leaves aside from a point cloud; " + s.input + " is a skeleton");
   Eigen::Vector3d up = parse_up(s.method.up);
   if (from_skeleton) {
     skeleton = io::read_skeleton(s.input);
@@ -173,7 +174,7 @@ int run(Settings& s) {
   j["output"] = s.output;
   if (cloud) j["points"] = cloud->size();
   if (cloud) j["ground_set_aside"] = ground;
-  if (wood.run) j["wood_only"] = {{"wood_points", wood.wood_points}, {"leaf_points", wood.leaf_points}, {"in_leaf", wood.in_leaf}};
+  report_wood(wood, j);
   j["nodes"] = skeleton.node_count();
   j["branch_points"] = count_branch_points(skeleton.graph);
   j["endpoints"] = count_endpoints(skeleton.graph);

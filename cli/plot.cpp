@@ -37,6 +37,7 @@ struct Settings {
   std::string input;
   bool segment_only = false;
   bool ground_filter = false;  // find the ground by the filter even when the file classifies it
+  bool keep_leaves = false;    // model each tree whole, leafy or not (else --wood-if-leafy for each)
   std::size_t min_tree_points = 500;
   std::string stem_slice;  // "LOW,HIGH"
   std::string labelled = "ply";  // the labelled cloud's format: ply or las
@@ -77,7 +78,15 @@ int run(Settings& s) {
   if (!b.model.empty() && !io::is_mesh_extension("x." + b.model))
     throw OptionError("--model " + b.model + ": unknown mesh format; use obj, gltf, glb, ply or stl");
   if (!b.skeleton.empty()) require_skeleton_extension("x." + b.skeleton);
+  if (b.model == "ply") b.model_suffix = "_mesh";  // tree_NNN.ply is the tree's cloud
   check_skeleton_settings(b.method);
+  if (s.keep_leaves && may_set_leaves_aside(b.method))
+    throw OptionError(std::string("--keep-leaves and ") + (b.method.wood_only ? "--wood-only" : "--wood-if-leafy") +
+                      ": give one");
+  if (!s.keep_leaves && !may_set_leaves_aside(b.method)) {  // the default: leaves set aside from each leafy tree
+    b.method.wood_if_leafy = true;
+    b.defaults.push_back("--wood-if-leafy");
+  }
   if (b.preview) require_chromium_for_preview();
   if (s.labelled != "ply" && s.labelled != "las")
     throw OptionError("--labelled " + s.labelled + ": the labelled cloud is written as ply or las");
@@ -171,14 +180,15 @@ int run(Settings& s) {
     if (before != io::read_whole_file(file)) changed.insert(names[t]);
     if (trees[t].size() >= s.min_tree_points) modelled.push_back(file.string());
   }
-  static const std::regex made_by_plot(R"((tree_[0-9]+)(_report\.json|_skeleton\.[a-z]+|_leaves\.ply|\.[a-z]+))");
+  static const std::regex made_by_plot(R"((tree_[0-9]+)(_report\.json|_skeleton\.[a-z]+|_leaves\.ply|_mesh\.ply|\.[a-z]+))");
   for (const auto& entry : fs::directory_iterator(out_dir / "trees", ec)) {
     std::smatch m;
     const std::string file = entry.path().filename().string();
     if (!std::regex_match(file, m, made_by_plot)) continue;
     const bool gone = !current.count(m[1].str());
     const bool stale = changed.count(m[1].str()) && m[2].str() != ".ply";
-    if (gone || stale) fs::remove(entry.path(), ec);
+    const bool leaves_kept = !s.segment_only && !may_set_leaves_aside(b.method) && m[2].str() == "_leaves.ply";
+    if (gone || stale || leaves_kept) fs::remove(entry.path(), ec);
   }
   std::vector<view::PlanLabel> labels;
   for (std::size_t t = 0; t < stems.size(); ++t) labels.push_back({stems[t].centre, std::to_string(t + 1)});
@@ -199,10 +209,10 @@ int run(Settings& s) {
   }
 
   // trees.csv and trees.json: one row per stem.
-  const std::vector<std::string> columns{"id", "name", "x", "y", "ground_z", "points", "height", "crown_base", "stem_dbh",
+  const std::vector<std::string> columns{"id", "name", "x", "y", "ground_z", "points", "leaf_points", "height", "crown_base", "stem_dbh",
                                          "dbh", "volume", "skeleton_coverage", "status", "warnings", "model", "error"};
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
-  std::size_t ok = 0;
+  std::size_t ok = 0, from_wood = 0;
   for (std::size_t t = 0; t < stems.size(); ++t) {
     const forest::Stem& st = stems[t];
     const forest::TreeShape& sh = shapes[t];
@@ -213,6 +223,7 @@ int run(Settings& s) {
     j["y"] = rounded(st.centre.y() + cloud.offset.y());
     j["ground_z"] = rounded(st.ground + cloud.offset.z());
     j["points"] = sh.points;
+    j["leaf_points"] = nullptr;
     j["height"] = rounded(sh.height);
     j["crown_base"] = rounded(sh.crown_base);
     j["stem_dbh"] = rounded(2 * st.radius);
@@ -235,6 +246,8 @@ int run(Settings& s) {
       auto fact = [&](const char* at) {
         return f.is_object() && f.contains(P(at)) ? nlohmann::ordered_json(f.at(P(at))) : nlohmann::ordered_json(nullptr);
       };
+      j["leaf_points"] = fact("/wood_only/leaf_points");
+      if (j["leaf_points"].is_null() && f.is_object() && f.contains("points")) j["leaf_points"] = 0;
       j["dbh"] = fact("/measurements/dbh");
       j["volume"] = fact("/measurements/volume");
       j["skeleton_coverage"] = fact("/mesh/skeleton_coverage");
@@ -243,6 +256,7 @@ int run(Settings& s) {
       if (r.status == "ok" && !r.outputs.empty()) j["model"] = fs::relative(r.outputs.front(), out_dir).generic_string();
       if (!r.error.empty()) j["error"] = r.error;
       ok += r.status == "ok";
+      from_wood += r.status == "ok" && j["leaf_points"].is_number() && j["leaf_points"].get<std::size_t>() > 0;
     }
     list.push_back(j);
   }
@@ -274,6 +288,9 @@ int run(Settings& s) {
   std::ostringstream line;
   line << stems.size() << " trees";
   if (!s.segment_only) line << ", " << ok << " modelled" << (failed ? ", " + std::to_string(failed) + " failed" : "");
+  if (from_wood > 0)
+    line << " (" << from_wood << " of them from their wood alone: they looked leafy, and their leaves are in "
+         << "trees/tree_NNN_leaves.ply and counted in leaf_points; --keep-leaves models them whole)";
   line << ", " << format_duration(clock.seconds()) << "; table in " << (out_dir / "trees.csv").string()
        << ", picture in " << (out_dir / "plan.png").string();
   (failed ? std::cerr : std::cout) << line.str() << '\n';
@@ -295,16 +312,19 @@ Command add_plot(CLI::App& app) {
       "plot",
       "A plot scan to one model per tree: finds the ground (the file's class 2 when a LAS file has one, else a progressive morphological filter) and the stems "
       "(circles in a slice above the ground), gives every other point to the stem nearest along a voxel graph, "
-      "and models each tree by the batch runner (a process per tree). The cloud must be z-up and in metres.\n"
+      "and models each tree by the batch runner (a process per tree). A tree whose points look leafy (16% or more "
+      "look like leaves or needles) is modelled from its wood, its leaves set aside (--wood-if-leafy; --keep-leaves "
+      "models every tree whole, --wood-only sets leaves aside from every tree). The cloud must be z-up and in metres.\n"
       "Writes OUTDIR/labelled.ply or .las (every point with tree_id, 0 for none; class: 0 no tree, 1 ground, 2 tree; "
       "height above the ground), OUTDIR/trees/tree_NNN.ply (each tree's points) with tree_NNN.glb and "
-      "tree_NNN_report.json beside (and tree_NNN_leaves.ply with --wood-only), OUTDIR/trees.csv and trees.json (id, stem position in the input's frame, "
-      "ground elevation, points, height, crown base, stem DBH from the slice, model DBH, volume, coverage, "
+      "tree_NNN_report.json and tree_NNN_leaves.ply (the points set aside as leaves; none when the tree did not look "
+      "leafy) beside, OUTDIR/trees.csv and trees.json (id, stem position in the input's frame, "
+      "ground elevation, points, points set aside as leaves, height, crown base, stem DBH from the slice, model DBH, volume, coverage, "
       "status, the model's warnings) and OUTDIR/plan.png (the plot from above, a colour and the id per tree). Exit code 0 when every "
       "tree with --min-tree-points or more points modelled, 1 when any failed or no stem was found.");
   c->add_option("input", s->input, "The plot's cloud (.xyz .txt .csv .ply .las .laz ...)")->required();
   c->add_option("-o,--output", s->batch.out_dir, "Folder to write into (made if missing)")->required();
-  c->add_option("--model", s->batch.model, "Mesh format of each tree's model: glb (the default), gltf, obj, ply or stl");
+  c->add_option("--model", s->batch.model, "Mesh format of each tree's model: glb (the default), gltf, obj, ply (written as tree_NNN_mesh.ply, beside the tree's cloud tree_NNN.ply) or stl");
   c->add_option("--skeleton", s->batch.skeleton, "Also write each tree's skeleton in this format: json, ply or obj");
   c->add_option("--labelled", s->labelled,
                 "Format of the labelled cloud: ply (the default) or las (LAS 1.4, tree_id, class and height as extra "
@@ -312,6 +332,9 @@ Command add_plot(CLI::App& app) {
                 "positions, colours and classes only: intensity, returns and times are not carried over)")
       ->default_val(s->labelled);
   c->add_flag("--segment-only", s->segment_only, "Find the trees and write their clouds, table and picture; no models");
+  c->add_flag("--keep-leaves", s->keep_leaves,
+              "Model every tree from all its points, leafy or not (by default a tree that looks leafy is modelled from "
+              "its wood alone, as --wood-if-leafy does)");
   c->add_flag("--html", s->batch.html, "Also write each tree's page and trees/index.html");
   c->add_flag("--preview", s->batch.preview, "Also render each tree's picture (needs Chromium)");
   c->add_option("-j,--jobs", s->batch.jobs, "Trees modelled at once (0: as many as cores)")->default_val(0)->check(CLI::Range(0u, 1024u));

@@ -8,6 +8,7 @@
 #include "treeskel/io/atomic_file.h"
 #include "treeskel/io/skeleton_io.h"
 
+#include <cmath>
 #include <iostream>
 #include <sstream>
 
@@ -49,9 +50,14 @@ void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
              "units); in a cloud in leaf, twigs also carry the shortest ways from the tree's base (its lowest point "
              "along --up) to what lies beyond them, and leaves hang at the ends. On a leafy broadleaf it keeps 90% of "
              "the wood with 9% of what it keeps leaves; on leafless trees it calls up to 10% of the points (thin twigs) "
-             "leaves, and on that leafy tree its model reaches 0.94 of the wood's height: it is off by default, for "
-             "plot too. Without it, a cloud in which 16% or more of the points look like leaves gets a warning. See "
-             "docs/plots.md")
+             "leaves, and on that leafy tree its model reaches 0.94 of the wood's height: so it is off by default. "
+             "Without it (or --wood-if-leafy), a cloud in which 16% or more of the points look like leaves gets a "
+             "warning. See docs/plots.md")
+      ->group(g);
+  c.add_flag("--wood-if-leafy", s.wood_if_leafy,
+             "As --wood-only, but only when the cloud looks leafy (16% or more of its points look like leaves by shape "
+             "and density: the test of the leafy warning); a cloud that does not is kept whole, so leafless trees lose "
+             "no twigs. The report's wood_if_leafy says what was estimated and decided. Plot's default for each tree")
       ->group(g);
   c.add_flag("--set-ground-aside", s.ground_aside,
              "Set aside the ground a single tree's scan stands on, and what lies on it below 0.3 m, before the "
@@ -105,6 +111,9 @@ void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
 }
 
 void check_skeleton_settings(const SkeletonSettings& s) {
+  if (s.wood_only && s.wood_if_leafy)
+    throw OptionError("--wood-only and --wood-if-leafy: give one (--wood-only sets leaves aside from every cloud, "
+                      "--wood-if-leafy only from a cloud that looks leafy)");
   parse_up(s.up);
   if (!s.root.empty()) parse_vector(s.root, "--root");
 }
@@ -138,9 +147,14 @@ std::size_t set_ground_aside(const SkeletonSettings& s, PointCloud& cloud, const
 
 WoodSplit keep_wood(const SkeletonSettings& s, PointCloud& cloud, const std::string& input, bool quiet) {
   WoodSplit split;
-  if (!s.wood_only) {
+  if (!may_set_leaves_aside(s)) {
     split.leafy_warning = leafy_warning(cloud);
     return split;
+  }
+  const char* option = s.wood_only ? "--wood-only" : "--wood-if-leafy";
+  if (s.wood_if_leafy) {
+    split.estimated_leaf_share = forest::estimate_leaf_share(cloud);
+    if (split.estimated_leaf_share < forest::kLeafyShare) return split;  // kept whole
   }
   forest::WoodOptions options;
   options.up = parse_up(s.up);
@@ -152,19 +166,36 @@ WoodSplit keep_wood(const SkeletonSettings& s, PointCloud& cloud, const std::str
   split.leaves = forest::select_points(cloud, w.is_wood, 0);
   const std::size_t all = cloud.size();
   cloud = forest::select_points(cloud, w.is_wood, 1);
-  if (!quiet) std::cerr << "--wood-only: " << wood_split(w.wood_points, w.leaf_points, w.in_leaf) << '\n';
+  if (!quiet) {
+    std::cerr << option << ": ";
+    if (s.wood_if_leafy)
+      std::cerr << "the cloud looks leafy (about " << std::lround(100.0 * split.estimated_leaf_share)
+                << "% of its points look like leaves or needles); ";
+    std::cerr << wood_split(w.wood_points, w.leaf_points, w.in_leaf) << '\n';
+  }
   if (cloud.size() < kFewestWoodPoints)
-    throw InputError(input + ": --wood-only found " + std::to_string(cloud.size()) + " of " + std::to_string(all) +
-                     " points that look like wood; too few for a skeleton (leave --wood-only off)");
+    throw InputError(input + ": " + option + " found " + std::to_string(cloud.size()) + " of " + std::to_string(all) +
+                     " points that look like wood; too few for a skeleton (" +
+                     (s.wood_only ? "leave --wood-only off" : "keep the leaves: leave --wood-if-leafy off, or plot's --keep-leaves") + ")");
   return split;
 }
 
+void report_wood(const WoodSplit& w, nlohmann::ordered_json& j) {
+  if (w.run) j["wood_only"] = {{"wood_points", w.wood_points}, {"leaf_points", w.leaf_points}, {"in_leaf", w.in_leaf}};
+  if (w.estimated_leaf_share >= 0.0)
+    j["wood_if_leafy"] = {{"estimated_leaf_share", std::round(1000.0 * w.estimated_leaf_share) / 1000.0},
+                          {"leaves_set_aside", w.run}};
+}
+
 void add_leaves_option(CLI::App& c, std::string& file) {
-  c.add_option("--leaves", file, "With --wood-only: also write the points set aside as leaves to this cloud file (.ply, .xyz, ...)");
+  c.add_option("--leaves", file,
+               "With --wood-only or --wood-if-leafy: also write the points set aside as leaves to this cloud file (.ply, "
+               ".xyz, ...); with --wood-if-leafy and a cloud that does not look leafy, a cloud of no points");
 }
 
 void check_leaves_option(const SkeletonSettings& s, const std::string& file) {
-  if (!file.empty() && !s.wood_only) throw OptionError("--leaves " + file + " needs --wood-only (it writes the points that sets aside)");
+  if (!file.empty() && !may_set_leaves_aside(s))
+    throw OptionError("--leaves " + file + " needs --wood-only or --wood-if-leafy (it writes the points they set aside)");
 }
 
 Skeleton extract_skeleton_of(const std::string& input, const PointCloud& cloud, const SkeletonOptions& options,

@@ -77,7 +77,7 @@ int run(Settings& s) {
   j["output"] = s.output;
   j["points"] = cloud.size();
   j["ground_set_aside"] = ground;
-  if (wood.run) j["wood_only"] = {{"wood_points", wood.wood_points}, {"leaf_points", wood.leaf_points}, {"in_leaf", wood.in_leaf}};
+  report_wood(wood, j);
   j["nodes"] = skeleton.node_count();
   j["edges"] = skeleton.edge_count();
   j["branch_points"] = branch_points;

@@ -200,11 +200,12 @@ PySkeleton extract(const py::object& points, const Options& o) {
       warn_user(out.cloud.get(), cli::ground_note(ground, "set_ground_aside=True"));
     }
   }
-  if (o.method.wood_only) {  // the skeleton, the radii and the measurements of the wood alone
+  if (cli::may_set_leaves_aside(o.method)) {  // the skeleton, the radii and the measurements of the wood alone
     auto wood = std::make_shared<Cloud>(*out.cloud);
     py::gil_scoped_release free;
-    cli::keep_wood(o.method, wood->cloud, wood->source.empty() ? std::string("the points") : wood->source, true);
-    out.cloud = std::move(wood);
+    const cli::WoodSplit split =
+        cli::keep_wood(o.method, wood->cloud, wood->source.empty() ? std::string("the points") : wood->source, true);
+    if (split.run) out.cloud = std::move(wood);  // with wood_if_leafy, a cloud not leafy stays whole
   } else {
     std::string leafy;
     {

@@ -226,6 +226,21 @@ def test_wood_only_skeleton_is_the_skeleton_of_the_wood():
     assert whole.positions[:, 0].max() > only.positions[:, 0].max() + 0.1
 
 
+def test_wood_if_leafy_sets_aside_the_leaves_of_a_leafy_cloud_alone(data):
+    points, _ = trunk_with_leaves()
+    only = treeskel.extract_skeleton(points, wood_only=True)
+    with warnings.catch_warnings():  # no leafy warning: the leaves were set aside
+        warnings.simplefilter("error")
+        leafy = treeskel.extract_skeleton(points, wood_if_leafy=True)
+    np.testing.assert_allclose(leafy.positions, only.positions, atol=1e-9)
+    # A leafless tree is kept whole: the same skeleton as without the option.
+    bare = np.loadtxt(data / "tree_adtree1.xyz")[:, :3]
+    np.testing.assert_allclose(treeskel.extract_skeleton(bare, wood_if_leafy=True).positions,
+                               treeskel.extract_skeleton(bare).positions, atol=1e-9)
+    with pytest.raises(ValueError, match="give one"):
+        treeskel.extract_skeleton(points, wood_only=True, wood_if_leafy=True)
+
+
 def tree_on_ground(data):
     """The bundled AdTree tree standing on a disc of ground 6 m across (points every 4 cm, 1 cm noise)."""
     tree = np.loadtxt(data / "tree_adtree1.xyz")[:, :3]

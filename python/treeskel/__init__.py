@@ -58,7 +58,8 @@ def plot(path, out_dir, **options):
     """Runs ``treeskel plot PATH -o OUT_DIR`` and returns its ``trees.json`` as a dict (one entry per
     tree in ``["trees"]``: stem position, height, crown base, DBH, volume, status, model). Options are
     the command's, as keyword arguments: ``segment_only=True``, ``jobs=2``, ``stem_slice=(0.5, 2.0)``,
-    ``model="obj"``, and every option of ``model``. A failed tree is a row with its error; a run that
+    ``model="obj"``, ``keep_leaves=True`` (a tree that looks leafy is otherwise modelled from its wood,
+    its ``leaf_points`` counted in its row), and every option of ``model``. A failed tree is a row with its error; a run that
     fails as a whole (no stem found, a bad option, an unreadable file) raises ``ValueError`` with the
     command's message."""
     import json

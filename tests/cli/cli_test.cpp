@@ -561,6 +561,51 @@ TEST(Cli, WoodOnlySetsTheLeavesOfALeafyTreeAside) {
   EXPECT_EQ(io::read_point_cloud(dir.path("out/tree_arbor_leafy_leaves.ply")).size(), leaves);
 }
 
+// --wood-if-leafy (plot's default for each tree): the leaves of the leafy tree set aside as --wood-only
+// would; the leafless tree kept whole, its skeleton byte for byte the one without the option, and an
+// empty cloud of leaves written; the report says what was estimated and decided.
+TEST(Cli, WoodIfLeafySetsLeavesAsideFromALeafyCloudAlone) {
+  const test::TempDir dir;
+  const std::string leafy = quoted(test::data_file("tree_arbor_leafy.xyz"));
+  const std::string leafless = quoted(test::data_file("tree_adtree1.xyz"));
+  const auto report_of = [&](const std::string& file) {
+    std::ifstream in(dir.path(file));
+    return nlohmann::json::parse(in);
+  };
+  const Result r = run("skeletonize " + leafy + " --wood-if-leafy --leaves l.ply -o s.ply --report r.json", dir.root());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("--wood-if-leafy: the cloud looks leafy (about "), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("warning"), std::string::npos) << r.out;
+  const auto report = report_of("r.json");
+  EXPECT_TRUE(report.at("wood_if_leafy").at("leaves_set_aside").get<bool>());
+  EXPECT_GE(report.at("wood_if_leafy").at("estimated_leaf_share").get<double>(), 0.16);
+  const std::size_t leaves = report.at("wood_only").at("leaf_points");
+  EXPECT_GT(leaves, 36478u / 6);
+  EXPECT_EQ(io::read_point_cloud(dir.path("l.ply")).size(), leaves);
+  EXPECT_TRUE(report.at("warnings").empty()) << report.at("warnings");
+  // The same split as --wood-only's.
+  ASSERT_EQ(run("skeletonize " + leafy + " --wood-only -o w.ply --report w.json", dir.root()).code, 0);
+  EXPECT_EQ(report_of("w.json").at("wood_only"), report.at("wood_only"));
+  EXPECT_EQ(text_of(dir.path("w.ply")), text_of(dir.path("s.ply")));
+
+  const Result whole = run("skeletonize " + leafless + " --wood-if-leafy --leaves l2.ply -o s2.ply --report r2.json", dir.root());
+  ASSERT_EQ(whole.code, 0) << whole.out;
+  EXPECT_EQ(whole.out.find("--wood-if-leafy"), std::string::npos) << whole.out;
+  const auto kept = report_of("r2.json");
+  EXPECT_FALSE(kept.at("wood_if_leafy").at("leaves_set_aside").get<bool>());
+  EXPECT_LT(kept.at("wood_if_leafy").at("estimated_leaf_share").get<double>(), 0.16);
+  EXPECT_FALSE(kept.contains("wood_only"));
+  EXPECT_EQ(kept.at("points"), 11855);
+  EXPECT_NE(text_of(dir.path("l2.ply")).find("element vertex 0\n"), std::string::npos);  // a PLY of no points
+  ASSERT_EQ(run("skeletonize " + leafless + " -o s3.ply", dir.root()).code, 0);
+  EXPECT_EQ(text_of(dir.path("s2.ply")), text_of(dir.path("s3.ply")));
+
+  const Result both = run("skeletonize " + leafy + " --wood-only --wood-if-leafy -o s4.ply", dir.root());
+  EXPECT_EQ(both.code, 2) << both.out;
+  EXPECT_NE(both.out.find("give one"), std::string::npos) << both.out;
+  EXPECT_FALSE(fs::exists(dir.path("s4.ply")));
+}
+
 // Without --wood-only, a cloud that looks leafy is said to be, on stderr and in the report's
 // warnings, by skeletonize and model; a leafless tree is not, nor a cloud whose leaves were set aside.
 TEST(Cli, ALeafyCloudIsCalledLeafy) {

@@ -85,7 +85,8 @@ TEST(Plot, TwoTreesSideBySideGiveTwoModelsInTheInputsFrame) {
   EXPECT_EQ(std::count(std::istreambuf_iterator<char>(*std::make_unique<std::ifstream>(dir.path("out/trees.csv"))), {}, '\n'), 3);
   const std::string csv = read_text(dir.path("out/trees.csv"));
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
-            "id,name,x,y,ground_z,points,height,crown_base,stem_dbh,dbh,volume,skeleton_coverage,status,warnings,model,error");
+            "id,name,x,y,ground_z,points,leaf_points,height,crown_base,stem_dbh,dbh,volume,skeleton_coverage,status,warnings,"
+            "model,error");
 
   // Again with --resume: the same trees, so their models are kept, not made again.
   const Result again = run("plot " + quoted(dir.path("two.ply")) + " -o " + quoted(dir.path("out")) + " --local --resume");
@@ -102,6 +103,72 @@ TEST(Plot, TwoTreesSideBySideGiveTwoModelsInTheInputsFrame) {
   EXPECT_NE(first.find("breast height"), std::string::npos) << first;
   const std::string table = read_text(dir.path("tall/trees.csv"));
   EXPECT_NE(table.find("breast height", table.find('\n')), std::string::npos) << table;
+}
+
+// A real tree in leaf (arbor's, every fourth point) beside a leafless one: by default the leafy tree
+// is modelled from its wood, its leaves written beside it and counted in the table; the leafless one
+// whole, with a cloud of no leaves. --keep-leaves models both whole and removes the earlier leaves.
+TEST(Plot, ALeafyTreeIsModelledFromItsWood) {
+  const test::TempDir dir;
+  const PointCloud leafy = io::read_point_cloud(test::data_file("tree_arbor_leafy.xyz"));
+  const PointCloud leafless = io::read_point_cloud(test::data_file("tree_adtree1.xyz"));
+  PointCloud two;
+  const auto place = [&](const PointCloud& tree, const Eigen::Vector3d& at) {
+    const Eigen::AlignedBox3d box = bounding_box(tree);
+    const Eigen::Vector3d foot(box.center().x(), box.center().y(), box.min().z());
+    for (const auto& p : tree.positions) two.positions.push_back(p - foot + at);
+  };
+  place(leafy, Eigen::Vector3d(500000.0, 5000000.0, 100.0));
+  place(leafless, Eigen::Vector3d(500008.0, 5000000.0, 100.0));
+  recentre_offset(two);
+  io::write_point_cloud(dir.path("two.ply"), two);
+
+  const Result r = run("plot " + quoted(dir.path("two.ply")) + " -o " + quoted(dir.path("out")) + " --local");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto doc = read_json(dir.path("out/trees.json"));
+  ASSERT_EQ(doc["trees"].size(), 2u) << doc;
+  const auto& in_leaf = doc["trees"][0];  // the ids go west to east
+  const auto& bare = doc["trees"][1];
+  ASSERT_EQ(in_leaf["status"], "ok") << in_leaf;
+  ASSERT_EQ(bare["status"], "ok") << bare;
+  EXPECT_NE(r.out.find("2 modelled (1 of them from their wood alone"), std::string::npos) << r.out;
+  const std::size_t leaves = in_leaf["leaf_points"].get<std::size_t>();
+  EXPECT_GT(leaves, in_leaf["points"].get<std::size_t>() / 6) << in_leaf;
+  EXPECT_LT(leaves, in_leaf["points"].get<std::size_t>() / 3) << in_leaf;
+  EXPECT_EQ(io::read_point_cloud(dir.path("out/trees/tree_001_leaves.ply")).size(), leaves);
+  const auto report = read_json(dir.path("out/trees/tree_001_report.json"));
+  EXPECT_TRUE(report["wood_if_leafy"]["leaves_set_aside"].get<bool>());
+  EXPECT_EQ(report["points"].get<std::size_t>() + leaves, in_leaf["points"].get<std::size_t>());
+  EXPECT_EQ(bare["leaf_points"], 0) << bare;
+  EXPECT_NE(read_text(dir.path("out/trees/tree_002_leaves.ply")).find("element vertex 0\n"), std::string::npos);
+  EXPECT_FALSE(read_json(dir.path("out/trees/tree_002_report.json"))["wood_if_leafy"]["leaves_set_aside"].get<bool>());
+  const std::string csv = read_text(dir.path("out/trees.csv"));
+  EXPECT_NE(csv.find("," + std::to_string(in_leaf["points"].get<std::size_t>()) + "," + std::to_string(leaves) + ","),
+            std::string::npos) << csv;
+
+  const Result whole = run("plot " + quoted(dir.path("two.ply")) + " -o " + quoted(dir.path("out")) + " --local --keep-leaves");
+  ASSERT_EQ(whole.code, 0) << whole.out;
+  EXPECT_EQ(whole.out.find("from their wood alone"), std::string::npos) << whole.out;
+  const auto kept = read_json(dir.path("out/trees.json"));
+  ASSERT_EQ(kept["trees"].size(), 2u);
+  for (const auto& row : kept["trees"]) EXPECT_EQ(row["leaf_points"], 0) << row;
+  EXPECT_FALSE(fs::exists(dir.path("out/trees/tree_001_leaves.ply")));
+  EXPECT_FALSE(fs::exists(dir.path("out/trees/tree_002_leaves.ply")));
+  EXPECT_EQ(read_json(dir.path("out/trees/tree_001_report.json"))["points"], in_leaf["points"]);
+  // The leafy tree's model, made of its leaves too, now warns that it looks leafy.
+  EXPECT_NE(kept["trees"][0]["warnings"].dump().find("looks leafy"), std::string::npos) << kept["trees"][0];
+
+  // As PLY, the models are named apart from the trees' clouds (tree_NNN.ply), which stay as they were.
+  const std::string cloud_before = read_text(dir.path("out/trees/tree_002.ply"));
+  const Result ply = run("plot " + quoted(dir.path("two.ply")) + " -o " + quoted(dir.path("out")) + " --local --model ply");
+  ASSERT_EQ(ply.code, 0) << ply.out;
+  EXPECT_EQ(read_json(dir.path("out/trees.json"))["trees"][1]["model"], "trees/tree_002_mesh.ply");
+  EXPECT_EQ(read_text(dir.path("out/trees/tree_002.ply")), cloud_before);
+  EXPECT_EQ(modeling::check_mesh(io::read_mesh(dir.path("out/trees/tree_002_mesh.ply")), false).boundary_edges, 0u);
+
+  const Result both = run("plot " + quoted(dir.path("two.ply")) + " -o " + quoted(dir.path("x")) + " --keep-leaves --wood-only");
+  EXPECT_EQ(both.code, 2) << both.out;
+  EXPECT_NE(both.out.find("give one"), std::string::npos) << both.out;
 }
 
 TEST(Plot, ASyntheticPlotSegmentedOnly) {
