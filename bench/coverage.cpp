@@ -1,9 +1,11 @@
 // How much of a real cloud a tree model shows, as a person judging it over its scan would see it:
 //
-//   bench_coverage [--up z] [--truth SKELETON] [--check] CLOUD MESH
+//   bench_coverage [--up z] [--truth SKELETON] [--check] [--frame MODELLED] [--precision] CLOUD MESH
 //
 // CLOUD is read as treeskel reads it (its local frame), MESH as a viewer reads it (assimp); write
-// the mesh with `treeskel model CLOUD --local -o MESH.ply` so that both are in the same frame.
+// the mesh with `treeskel model CLOUD --local -o MESH.ply` so that both are in the same frame. With
+// --frame, CLOUD is another cloud of the same place (the true wood of a tree, say) and MESH was
+// written by `treeskel model MODELLED --local`: CLOUD is moved into MODELLED's local frame.
 // Prints one line: the share of the cloud's points within 1% and within 2% of the cloud's height
 // from the mesh's surface (exact point-to-triangle distances), and the reach: the mesh's extent
 // along the up axis over the cloud's. With --truth (a synthetic tree's true skeleton, as `treeskel
@@ -11,12 +13,16 @@
 // the height of its surface: the mesh holds every true branch the skeleton found. With --check, also
 // the file's own checks as a reader meets it: closed and manifold once equal positions are one
 // vertex (a file that is not is refused with the face that breaks it), its components and its
-// self-intersections, the whole mesh tested exactly.
+// self-intersections, the whole mesh tested exactly. With --precision, also the share of the mesh's
+// vertices within 1% and 2% of the height from CLOUD's nearest point: how little of the model lies
+// where the cloud has no points (in the leaves, when CLOUD is a tree's true wood).
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/io/skeleton_io.h"
+#include "treeskel/kd_search.h"
 #include "treeskel/modeling/coverage.h"
 
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -27,8 +33,8 @@ using namespace treeskel;
 int main(int argc, char** argv) {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   std::vector<std::string> files;
-  std::string truth_file;
-  bool check_file = false;
+  std::string truth_file, frame_file;
+  bool check_file = false, precision = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--up" && i + 1 < argc) {
@@ -38,16 +44,24 @@ int main(int argc, char** argv) {
       truth_file = argv[++i];
     } else if (a == "--check") {
       check_file = true;
+    } else if (a == "--frame" && i + 1 < argc) {
+      frame_file = argv[++i];
+    } else if (a == "--precision") {
+      precision = true;
     } else {
       files.push_back(a);
     }
   }
   if (files.size() != 2) {
-    std::cerr << "usage: bench_coverage [--up x|y|z] [--truth SKELETON] [--check] CLOUD MESH\n";
+    std::cerr << "usage: bench_coverage [--up x|y|z] [--truth SKELETON] [--check] [--frame MODELLED] [--precision] CLOUD MESH\n";
     return 2;
   }
   try {
-    const PointCloud cloud = io::read_point_cloud(files[0]);
+    PointCloud cloud = io::read_point_cloud(files[0]);
+    if (!frame_file.empty()) {  // into the local frame of the cloud the mesh was made from
+      const Eigen::Vector3d shift = cloud.offset - io::read_point_cloud(frame_file).offset;
+      for (auto& p : cloud.positions) p += shift;
+    }
     const modeling::TreeMesh mesh = io::read_mesh(files[1]);
     double lo = 1e300, hi = -1e300, mesh_lo = 1e300, mesh_hi = -1e300;
     for (const auto& p : cloud.positions) {
@@ -65,6 +79,25 @@ int main(int argc, char** argv) {
     std::printf("%zu points, height %.3f: within 1%% %.3f, within 2%% %.3f, reach %.3f\n", cloud.size(), height,
                 modeling::share_within(d, 0.01 * height), modeling::share_within(d, 0.02 * height),
                 (mesh_hi - mesh_lo) / height);
+    if (precision) {
+      std::vector<kd::Point> points;
+      points.reserve(cloud.size());
+      for (const auto& p : cloud.positions) points.emplace_back(p.x(), p.y(), p.z());
+      std::vector<std::uint32_t> ids(points.size());
+      for (std::uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
+      const kd::Tree tree(ids.begin(), ids.end(), kd::Tree::Splitter(), kd::Traits(kd::PointMap(points.data())));
+      std::size_t near1 = 0, near2 = 0, all = 0;
+      for (auto v : mesh.vertices()) {
+        const auto p = mesh.point(v);
+        const kd::KnnSearch search(tree, kd::Point(p[0], p[1], p[2]), 1, 0, true, kd::KnnSearch::Distance(kd::PointMap(points.data())));
+        const double d = std::sqrt(search.begin()->second);
+        near1 += d <= 0.01 * height;
+        near2 += d <= 0.02 * height;
+        ++all;
+      }
+      std::printf("precision: %zu mesh vertices, within 1%% %.3f, within 2%% %.3f\n", all,
+                  static_cast<double>(near1) / static_cast<double>(all), static_cast<double>(near2) / static_cast<double>(all));
+    }
     if (check_file) {
       // The file as a reader meets it (positions that are equal in it are one vertex), checked whole.
       const modeling::MeshCheck check = modeling::check_mesh(mesh, true);
