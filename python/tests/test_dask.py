@@ -101,6 +101,19 @@ def test_every_tree_once_and_a_corrupt_one_alone(cluster, data, tmp_path):
     # Run again with resume: nothing is converted twice.
     again = treeskel.dask.convert([folder], tmp_path / "out", client=client, resume=True)
     assert [r["resumed"] for r in again if r["status"] == "ok"] == [True] * 5
+    # Leaves set aside are written beside each model, as batch writes them: the leafy tree's, and for
+    # the leafless one (kept whole by wood_if_leafy) a cloud of no points.
+    wood = treeskel.dask.convert([data / "tree_arbor_leafy.xyz", data / "tree_adtree1.xyz"], tmp_path / "wood",
+                                 client=client, wood_if_leafy=True)
+    row = {r["name"]: r for r in wood}
+    assert [r["status"] for r in wood] == ["ok", "ok"], wood
+    leafy = json.loads((tmp_path / "wood" / "tree_arbor_leafy_report.json").read_text())
+    assert leafy["wood_if_leafy"]["leaves_set_aside"]
+    assert row["tree_arbor_leafy"]["points"] == leafy["wood_only"]["wood_points"]
+    header = (tmp_path / "wood" / "tree_arbor_leafy_leaves.ply").read_bytes()[:300]
+    assert b"element vertex %d\n" % leafy["wood_only"]["leaf_points"] in header
+    assert b"element vertex 0\n" in (tmp_path / "wood" / "tree_adtree1_leaves.ply").read_bytes()
+    assert str(tmp_path / "wood" / "tree_arbor_leafy_leaves.ply") in row["tree_arbor_leafy"]["outputs"]
 
 
 def test_a_worker_killed_mid_run_loses_nothing(cluster, data, tmp_path):

@@ -54,13 +54,16 @@ def executable():
     raise RuntimeError("the treeskel command was not found: build or install it, or set TREESKEL_EXE")
 
 
-def _outputs(out_dir, name, model, skeleton):
+def _outputs(out_dir, name, model, skeleton, leaves=False):
+    """A tree's output files, its report last; with ``leaves``, NAME_leaves.ply before it."""
     base = os.path.join(out_dir, name)
     outputs = []
     if model:
         outputs.append(base + "." + model)
     if skeleton:
         outputs.append(base + "_skeleton." + skeleton)
+    if leaves:
+        outputs.append(base + "_leaves.ply")
     outputs.append(base + "_report.json")
     return outputs
 
@@ -143,10 +146,11 @@ def _threads_here():
         return 1
 
 
-def convert_one(path, name, out_dir, model="glb", skeleton=None, args=(), command=None):
+def convert_one(path, name, out_dir, model="glb", skeleton=None, args=(), command=None, leaves=False):
     """Converts one tree with the ``treeskel`` command, writing its outputs into ``out_dir``; returns
-    its summary row (a failure is a row with status "failed", not an exception)."""
-    outputs = _outputs(out_dir, name, model, skeleton)
+    its summary row (a failure is a row with status "failed", not an exception). ``leaves``: ``args``
+    set leaves aside (--wood-only, --wood-if-leafy), written as NAME_leaves.ply, as ``batch`` does."""
+    outputs = _outputs(out_dir, name, model, skeleton, leaves)
     os.makedirs(os.path.dirname(outputs[0]) or ".", exist_ok=True)
     cmd = [command or executable(), "--threads", str(_threads_here())]
     if model:
@@ -155,6 +159,8 @@ def convert_one(path, name, out_dir, model="glb", skeleton=None, args=(), comman
             cmd += ["--skeleton", outputs[1]]
     else:
         cmd += ["skeletonize", path, "-o", outputs[0]]
+    if leaves:
+        cmd += ["--leaves", outputs[-2]]
     cmd += ["--report", outputs[-1], "-q"] + list(args)
     start = time.monotonic()
     done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, errors="replace")
@@ -226,6 +232,7 @@ def convert(paths, out_dir, client=None, *, model="glb", skeleton=None, resume=F
         paths = [paths]
     out_dir = os.fspath(out_dir)
     args = _treeskel._command_args(model is not None, **options)
+    leaves = "--wood-only" in args or "--wood-if-leafy" in args  # their leaves written, as batch writes them
     command = executable()
     os.makedirs(out_dir, exist_ok=True)
     planned, _passed_over = _treeskel._plan_inputs([os.fspath(p) for p in paths], out_dir)
@@ -234,7 +241,7 @@ def convert(paths, out_dir, client=None, *, model="glb", skeleton=None, resume=F
     rows = [None] * len(planned)
     todo = []
     for i, (path, name, error) in enumerate(planned):
-        outputs = _outputs(out_dir, name, model, skeleton)
+        outputs = _outputs(out_dir, name, model, skeleton, leaves)
         if error:
             rows[i] = _row(path, name, "failed", 0.0, error=error)
             continue
@@ -257,7 +264,8 @@ def convert(paths, out_dir, client=None, *, model="glb", skeleton=None, resume=F
         try:
             futures = {}
             for i, path, name in todo:
-                future = client.submit(convert_one, path, name, out_dir, model, skeleton, args, command, pure=False)
+                future = client.submit(convert_one, path, name, out_dir, model, skeleton, args, command, leaves,
+                                       pure=False)
                 futures[future] = i
             for future in as_completed(list(futures)):
                 i = futures[future]
