@@ -78,8 +78,8 @@ int run(Settings& s) {
   std::size_t ground = 0;
   const bool from_skeleton = io::looks_like_skeleton(s.input);
   if (from_skeleton && may_set_leaves_aside(s.method))
-    throw OptionError(std::string(s.method.wood_only ? "--wood-only" : "--wood-if-leafy") +
-                      " sets leaves aside from a point cloud; " + s.input + " is a skeleton");
+    throw OptionError(std::string(leaves_option(s.method)) + " sets leaves aside from a point cloud; " + s.input +
+                      " is a skeleton");
   Eigen::Vector3d up = parse_up(s.method.up);
   if (from_skeleton) {
     skeleton = io::read_skeleton(s.input);

@@ -81,8 +81,7 @@ int run(Settings& s) {
   if (b.model == "ply") b.model_suffix = "_mesh";  // tree_NNN.ply is the tree's cloud
   check_skeleton_settings(b.method);
   if (s.keep_leaves && may_set_leaves_aside(b.method))
-    throw OptionError(std::string("--keep-leaves and ") + (b.method.wood_only ? "--wood-only" : "--wood-if-leafy") +
-                      ": give one");
+    throw OptionError(std::string("--keep-leaves and ") + leaves_option(b.method) + ": give one");
   if (!s.keep_leaves && !may_set_leaves_aside(b.method)) {  // the default: leaves set aside from each leafy tree
     b.method.wood_if_leafy = true;
     b.defaults.push_back("--wood-if-leafy");

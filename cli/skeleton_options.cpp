@@ -151,7 +151,7 @@ WoodSplit keep_wood(const SkeletonSettings& s, PointCloud& cloud, const std::str
     split.leafy_warning = leafy_warning(cloud);
     return split;
   }
-  const char* option = s.wood_only ? "--wood-only" : "--wood-if-leafy";
+  const char* option = leaves_option(s);
   if (s.wood_if_leafy) {
     split.estimated_leaf_share = forest::estimate_leaf_share(cloud);
     if (split.estimated_leaf_share < forest::kLeafyShare) return split;  // kept whole

@@ -37,6 +37,9 @@ struct WoodSplit {
 /// Whether the command sets leaves aside, always or when the cloud looks leafy (so writes --leaves).
 inline bool may_set_leaves_aside(const SkeletonSettings& s) { return s.wood_only || s.wood_if_leafy; }
 
+/// The option that sets leaves aside, as the user gave it ("--wood-only" or "--wood-if-leafy"), for messages.
+inline const char* leaves_option(const SkeletonSettings& s) { return s.wood_only ? "--wood-only" : "--wood-if-leafy"; }
+
 /// Adds the method's options to `command`, in the group "Method".
 void add_skeleton_options(CLI::App& command, SkeletonSettings& settings);
 
