@@ -225,7 +225,7 @@ void finish(BatchRow& row, int status, const Log& log, bool stopping) {
 }
 
 // The summary: one row per tree, as CSV and as JSON, with the same fields.
-const std::vector<std::string> kColumns{"input",  "name",      "status", "resumed", "seconds", "points", "nodes",
+const std::vector<std::string> kColumns{"input",  "name",      "status", "resumed", "seconds", "points", "leaf_points", "nodes",
                                         "height", "dbh",       "volume", "branch_points", "endpoints",
                                         "branches_by_order", "triangles", "components", "skeleton_coverage",
                                         "warnings", "outputs",  "error"};
@@ -245,7 +245,9 @@ nlohmann::ordered_json row_json(const BatchRow& r) {
   // else the time its process ran.
   const auto own = f.is_object() && f.contains(P("/seconds/total")) ? fact(P("/seconds/total")) : fact(P("/seconds"));
   j["seconds"] = r.status == "ok" ? own : nlohmann::ordered_json(r.seconds);
-  j["points"] = fact(P("/points"));
+  j["points"] = fact(P("/points"));  // with leaves set aside, the wood's
+  j["leaf_points"] = fact(P("/wood_only/leaf_points"));
+  if (j["leaf_points"].is_null() && f.is_object() && f.contains("wood_if_leafy")) j["leaf_points"] = 0;  // kept whole
   j["nodes"] = fact(P("/nodes"));
   j["height"] = fact(P("/measurements/height"));
   j["dbh"] = fact(P("/measurements/dbh"));
@@ -365,6 +367,7 @@ std::string row_line(const BatchRow& r, std::size_t done, std::size_t total) {
   if (r.resumed) out << " (done before)";
   else out << " (" << format_seconds(r.seconds) << ")";
   if (f.contains("points")) out << ": " << f["points"].get<std::size_t>() << " points";
+  if (f.contains("wood_only")) out << " (" << f["wood_only"]["leaf_points"].get<std::size_t>() << " more set aside as leaves)";
   if (f.contains("measurements")) {
     const auto& m = f["measurements"];
     out << ", height " << m["height"].get<double>();
@@ -554,7 +557,8 @@ Command add_batch(CLI::App& app) {
       "treeskel process of its own, several at a time; a tree that fails is one error row and the rest go on.\n"
       "Writes OUTDIR/NAME.glb (or --model FORMAT), NAME_skeleton.FORMAT with --skeleton, NAME_leaves.ply with "
       "--wood-only or --wood-if-leafy (the points set aside), NAME_report.json, and "
-      "summary.csv and summary.json with one row per tree (input, status, seconds, points, height, DBH, "
+      "summary.csv and summary.json with one row per tree (input, status, seconds, points, points set aside as "
+      "leaves, height, DBH, "
       "volume, branch counts, coverage, warnings, error). NAME is the input's file name without its "
       "extension, or for a file found in a folder its path below that folder. Exit code 0 when every tree "
       "converted, 1 when any failed.");

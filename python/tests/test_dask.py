@@ -110,6 +110,8 @@ def test_every_tree_once_and_a_corrupt_one_alone(cluster, data, tmp_path):
     leafy = json.loads((tmp_path / "wood" / "tree_arbor_leafy_report.json").read_text())
     assert leafy["wood_if_leafy"]["leaves_set_aside"]
     assert row["tree_arbor_leafy"]["points"] == leafy["wood_only"]["wood_points"]
+    assert row["tree_arbor_leafy"]["leaf_points"] == leafy["wood_only"]["leaf_points"]
+    assert row["tree_adtree1"]["leaf_points"] == 0 and rows[0]["leaf_points"] is None
     header = (tmp_path / "wood" / "tree_arbor_leafy_leaves.ply").read_bytes()[:300]
     assert b"element vertex %d\n" % leafy["wood_only"]["leaf_points"] in header
     assert b"element vertex 0\n" in (tmp_path / "wood" / "tree_adtree1_leaves.ply").read_bytes()

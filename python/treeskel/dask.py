@@ -30,7 +30,7 @@ from . import _treeskel
 
 #: The fields of a summary row, in the order of ``treeskel batch``'s summary.csv.
 COLUMNS = [
-    "input", "name", "status", "resumed", "seconds", "points", "nodes", "height", "dbh", "volume",
+    "input", "name", "status", "resumed", "seconds", "points", "leaf_points", "nodes", "height", "dbh", "volume",
     "branch_points", "endpoints", "branches_by_order", "triangles", "components", "skeleton_coverage",
     "warnings", "outputs", "error",
 ]
@@ -88,7 +88,8 @@ def _row(path, name, status, seconds=None, outputs=(), report=None, error=None, 
         "status": status,
         "resumed": resumed,
         "seconds": seconds,
-        "points": _fact(report, "points"),
+        "points": _fact(report, "points"),  # with leaves set aside, the wood's
+        "leaf_points": _leaf_points(report),
         "nodes": _fact(report, "nodes"),
         "height": _fact(report, "measurements", "height"),
         "dbh": _fact(report, "measurements", "dbh"),
@@ -103,6 +104,12 @@ def _row(path, name, status, seconds=None, outputs=(), report=None, error=None, 
         "outputs": list(outputs) if status == "ok" else [],
         "error": error,
     }
+
+
+def _leaf_points(report):
+    """The points set aside as leaves: 0 when wood_if_leafy kept the tree whole, None when not looked for."""
+    counted = _fact(report, "wood_only", "leaf_points")
+    return 0 if counted is None and "wood_if_leafy" in report else counted
 
 
 def _read_report(path):

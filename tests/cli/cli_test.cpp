@@ -559,6 +559,12 @@ TEST(Cli, WoodOnlySetsTheLeavesOfALeafyTreeAside) {
   const Result batch = run("batch " + cloud + " -o out --wood-only --skeleton json", dir.root());
   ASSERT_EQ(batch.code, 0) << batch.out;
   EXPECT_EQ(io::read_point_cloud(dir.path("out/tree_arbor_leafy_leaves.ply")).size(), leaves);
+  EXPECT_NE(batch.out.find(": " + std::to_string(wood) + " points (" + std::to_string(leaves) + " more set aside as leaves)"),
+            std::string::npos) << batch.out;
+  std::ifstream summary_in(dir.path("out/summary.json"));
+  const auto summary = nlohmann::json::parse(summary_in);
+  EXPECT_EQ(summary.at("trees").at(0).at("leaf_points"), leaves);
+  EXPECT_EQ(summary.at("trees").at(0).at("points"), wood);
 }
 
 // --wood-if-leafy (plot's default for each tree): the leaves of the leafy tree set aside as --wood-only
