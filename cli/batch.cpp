@@ -246,8 +246,7 @@ nlohmann::ordered_json row_json(const BatchRow& r) {
   const auto own = f.is_object() && f.contains(P("/seconds/total")) ? fact(P("/seconds/total")) : fact(P("/seconds"));
   j["seconds"] = r.status == "ok" ? own : nlohmann::ordered_json(r.seconds);
   j["points"] = fact(P("/points"));  // with leaves set aside, the wood's
-  j["leaf_points"] = fact(P("/wood_only/leaf_points"));
-  if (j["leaf_points"].is_null() && f.is_object() && f.contains("wood_if_leafy")) j["leaf_points"] = 0;  // kept whole
+  j["leaf_points"] = leaf_points_of(f);
   j["nodes"] = fact(P("/nodes"));
   j["height"] = fact(P("/measurements/height"));
   j["dbh"] = fact(P("/measurements/dbh"));
@@ -380,6 +379,13 @@ std::string row_line(const BatchRow& r, std::size_t done, std::size_t total) {
 }
 
 }  // namespace
+
+nlohmann::ordered_json leaf_points_of(const nlohmann::json& report) {
+  if (!report.is_object()) return nullptr;
+  const nlohmann::json::json_pointer counted("/wood_only/leaf_points");
+  if (report.contains(counted)) return report.at(counted);
+  return report.contains("wood_if_leafy") ? nlohmann::ordered_json(0) : nlohmann::ordered_json(nullptr);
+}
 
 std::string csv_text(const nlohmann::ordered_json& v) {
   if (v.is_null()) return "";

@@ -52,6 +52,10 @@ struct BatchRow {
 /// `command`, and lists them in `s.passed` (and those only `model` has in `s.model_only`).
 void add_tree_options(CLI::App& command, BatchSettings& s);
 
+/// The points a tree's report says were set aside as leaves: its `wood_only` count, 0 when
+/// --wood-if-leafy kept the tree whole, null when neither option ran (or there is no report).
+nlohmann::ordered_json leaf_points_of(const nlohmann::json& report);
+
 /// A value of a summary as the text of one CSV cell: a list joined by "; ", null empty.
 std::string csv_text(const nlohmann::ordered_json& value);
 

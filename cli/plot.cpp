@@ -245,8 +245,8 @@ int run(Settings& s) {
       auto fact = [&](const char* at) {
         return f.is_object() && f.contains(P(at)) ? nlohmann::ordered_json(f.at(P(at))) : nlohmann::ordered_json(nullptr);
       };
-      j["leaf_points"] = fact("/wood_only/leaf_points");
-      if (j["leaf_points"].is_null() && f.is_object() && f.contains("points")) j["leaf_points"] = 0;
+      j["leaf_points"] = leaf_points_of(f);
+      if (j["leaf_points"].is_null() && f.is_object() && f.contains("points")) j["leaf_points"] = 0;  // --keep-leaves
       j["dbh"] = fact("/measurements/dbh");
       j["volume"] = fact("/measurements/volume");
       j["skeleton_coverage"] = fact("/mesh/skeleton_coverage");
