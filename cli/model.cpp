@@ -186,7 +186,8 @@ int run(Settings& s) {
   j["radii"] = {{"measured_nodes", radius_stats.measured},
                 {"reliable_nodes", radius_stats.reliable},
                 {"from_stored_radii", radius_stats.used_stored},
-                {"exponent", s.radii.exponent}};
+                {"exponent", s.radii.exponent},
+                {"stem_share_bound", s.radii.max_share_over_pipe}};
   const CompleteStats& grafted = radius_stats.completion;
   j["completion"] = {{"run", s.radii.complete && cloud.has_value()},
                      {"uncovered_points", grafted.uncovered_points},

@@ -4,6 +4,9 @@
 
 #include "treeskel/modeling/measurements.h"
 
+#include <stdexcept>
+#include <string>
+
 namespace treeskel::cli {
 
 void add_model_options(CLI::App& c, ModelSettings& s) {
@@ -18,6 +21,22 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
   c.add_option("--tip-weight", r.tip_weight,
                "Pipe model: what a tip carries, in median twig lengths (large: all twigs equally thick)")
       ->default_val(r.tip_weight)->check(positive())->group(g);
+  c.add_option("--stem-share-bound", r.max_share_over_pipe,
+               "At each fork on the stem, let no branch take more than K times the share of the stem's cross "
+               "section that the pipe model gives it (0: off, else at least 1). For conifers, where circle fits take "
+               "in the needles around the branches of a whorl and the stem above comes out too thin: 4 gave "
+               "TreeLS's pine and spruce stems 2-3x thicker, close to their points. Off by default: it made one "
+               "broadleaved tree's mesh 160x slower to build (docs/models.md)")
+      ->default_val(r.max_share_over_pipe)
+      ->check([](const std::string& text) -> std::string {
+        double k = -1.0;
+        try {
+          k = std::stod(text);
+        } catch (const std::exception&) {
+        }
+        return k == 0.0 || k >= 1.0 ? "" : "must be 0 (off) or a number of at least 1, not " + text;
+      })
+      ->group(g);
   c.add_option("--fit-points", r.min_points, "Fewest points of a node for its radius to be measured by a circle fit")
       ->default_val(r.min_points)->check(in_range(3, 100000))->group(g);
   c.add_option("--segments", w.trunk_segments, "Polygon sides around the trunk; thinner branches get fewer")

@@ -198,6 +198,8 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
   if (options.start_share <= 0.0 || options.start_share > 1.0) throw OptionError("the start share must be in (0, 1]");
   if (options.smoothing < 0) throw OptionError("the smoothing window must not be negative");
   if (!(options.tip_weight > 0.0)) throw OptionError("the tip weight must be positive");
+  if (!(options.max_share_over_pipe >= 0.0) || (options.max_share_over_pipe > 0.0 && options.max_share_over_pipe < 1.0))
+    throw OptionError("the bound on a child's share over the pipe model's must be 0 (none) or at least 1");
   const ChainTree t = build_chains(skeleton);
   auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
@@ -281,16 +283,42 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
     return {weighted_median(values), std::min(1.0, confidence / 2.0)};
   };
 
+  // At a fork on the stem, no child's estimate claims more than `max_share_over_pipe` times its
+  // pipe-model share (see RadiusOptions): side branches whose fits take in their needles would
+  // otherwise starve the stem.
+  auto cap_fit_shares = [&](std::vector<double>& estimate, const std::vector<std::size_t>& chain_ids) {
+    double total = 0.0, carried_total = 0.0;
+    std::vector<double> carries;
+    for (std::size_t i = 0; i < chain_ids.size(); ++i) {
+      carries.push_back(carried[own_nodes(t.chains[chain_ids[i]]).front()]);
+      total += estimate[i];
+      carried_total += carries.back();
+    }
+    if (!(total > 0.0) || !(carried_total > 0.0)) return;
+    for (std::size_t i = 0; i < estimate.size(); ++i)
+      estimate[i] = std::min(estimate[i], options.max_share_over_pipe * total * carries[i] / carried_total);
+  };
+
   std::vector<double> area(n, 0.0);  // r^e
   // Start values of the chains leaving a fork: the fork's cross section shared in proportion to
   // what each chain's start is estimated at (measured where it can be, else the pipe model).
-  auto split_fork = [&](NodeId fork, const std::vector<std::size_t>& chain_ids, bool fork_known) {
+  // The stem: from the root, at every fork the child that carries the most.
+  std::vector<bool> stem(t.chains.size(), false);
+  auto mark_stem = [&](const std::vector<std::size_t>& chain_ids) {
+    std::size_t best = chain_ids.front();
+    for (std::size_t id : chain_ids)
+      if (carried[own_nodes(t.chains[id]).front()] > carried[own_nodes(t.chains[best]).front()]) best = id;
+    stem[best] = true;
+  };
+  auto split_fork = [&](NodeId fork, const std::vector<std::size_t>& chain_ids, bool fork_known, bool on_stem) {
     std::vector<double> estimate;
     for (std::size_t id : chain_ids) {
       const auto nodes = own_nodes(t.chains[id]);
       const auto [value, confidence] = measured_start(nodes);
       estimate.push_back(confidence * value + (1.0 - confidence) * global_scale * carried[nodes.front()]);
     }
+    if (on_stem) mark_stem(chain_ids);
+    if (on_stem && cloud != nullptr && options.max_share_over_pipe > 0.0) cap_fit_shares(estimate, chain_ids);
     const double total = std::accumulate(estimate.begin(), estimate.end(), 0.0);
     if (!fork_known) area[fork] = total;
     for (std::size_t i = 0; i < chain_ids.size(); ++i)
@@ -303,11 +331,12 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
   if (root_chains.empty()) {  // a lone node
     area[skeleton.root] = std::pow(measured[skeleton.root].radius, e);
   } else if (root_in_chain) {
+    stem[root_chains.front()] = true;
     const auto nodes = own_nodes(t.chains[root_chains.front()]);
     const auto [value, confidence] = measured_start(nodes);
     area[skeleton.root] = confidence * value + (1.0 - confidence) * global_scale * carried[skeleton.root];
   } else {
-    split_fork(skeleton.root, root_chains, false);
+    split_fork(skeleton.root, root_chains, false, true);
   }
 
   const int half = options.smoothing;
@@ -346,7 +375,7 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
     const double beta = std::min(1.0, confidence / 3.0);
     for (std::size_t i = 1; i < k; ++i)
       area[nodes[i]] = start * (beta * smooth[i] / smooth[0] + (1.0 - beta) * model[i]);
-    if (!t.chains[id].children.empty()) split_fork(nodes.back(), t.chains[id].children, true);
+    if (!t.chains[id].children.empty()) split_fork(nodes.back(), t.chains[id].children, true, stem[id]);
   }
   for (NodeId v = 0; v < n; ++v) g[v].radius = std::pow(area[v], 1.0 / e);
   if (stats) *stats = local;

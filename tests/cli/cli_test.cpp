@@ -250,6 +250,28 @@ TEST(Cli, ModelCompleteGrowsBranchesThroughThePointsItPassedBy) {
 }
 
 // A Y-up cloud modeled as Z-up, and the same cloud in millimetres, are warned about.
+// --stem-share-bound reaches the radii (and the report); a bound under 1 is refused by name.
+TEST(Cli, ModelBoundsTheStemsSharesWhenAsked) {
+  test::TempDir dir;
+  const std::string cloud = test::data_file("tree_adtree1.xyz");
+  const Result r = run("model " + cloud + " --stem-share-bound 4 -o tree.ply --report report.json", dir.root());
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::ifstream in(dir.path("report.json"));
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["radii"]["stem_share_bound"].get<double>(), 4.0);
+  EXPECT_TRUE(j["mesh"]["closed"].get<bool>());
+  EXPECT_EQ(j["mesh"]["self_intersections"].get<int>(), 0);
+  const modeling::MeshCheck check = modeling::check_mesh(io::read_mesh(dir.path("tree.ply")), true);
+  EXPECT_TRUE(check.ok()) << check.problem();
+  const Result plain = run("model " + cloud + " -o plain.ply --json", dir.root());
+  ASSERT_EQ(plain.code, 0) << plain.out;
+  EXPECT_EQ(nlohmann::json::parse(plain.out)["radii"]["stem_share_bound"].get<double>(), 0.0);
+  const Result under = run("model " + cloud + " --stem-share-bound 0.5 -o bad.ply", dir.root());
+  EXPECT_EQ(under.code, 2) << under.out;
+  EXPECT_NE(under.out.find("--stem-share-bound"), std::string::npos) << under.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.path("bad.ply")));
+}
+
 TEST(Cli, ModelWarnsAboutAnUpAxisOrUnitsThatLookWrong) {
   test::TempDir dir;
   const PointCloud tree = io::read_point_cloud(test::data_file("tree_rtwig.txt"));

@@ -190,5 +190,62 @@ TEST(FitRadii, CompletingGrowsATwigAndFitsItsRadii) {
   EXPECT_NEAR(s[s.root].radius, 0.05, 0.01);
 }
 
+// A short side branch whose circle fits are as wide as the trunk (on TreeLS's conifers, the needles
+// around a whorl's branches; here its points lie on a circle as wide as the trunk). By the fits alone the
+// fork would give the stub a third of the trunk's cross section, and the trunk above it would
+// narrow to 0.8 of what its own points say. Bounded by four times its pipe-model share, the stub
+// gets less and the trunk keeps more of its width; without a cloud nothing is bounded.
+TEST(FitRadii, AStubThatMeasuresItsParentDoesNotStarveIt) {
+  Skeleton s = test::straight(4.0, 0.1, 40);  // nodes every 0.1 m; node 10 at z = 1
+  const NodeId fork = 10;
+  const NodeId stub = test::add_run(s, fork, Eigen::Vector3d(0.2, 0, 1.0), 0.1, 2);
+  std::vector<Eigen::Vector3d> twig_direction;  // sixteen twigs of 0.3 m near the top, 3 nodes each
+  for (int k = 0; k < 16; ++k) {
+    const NodeId from = static_cast<NodeId>(24 + k);
+    twig_direction.emplace_back(std::cos(0.8 * k), std::sin(0.8 * k), 0.0);
+    test::add_run(s, from, s[from].position + 0.3 * twig_direction.back(), 0.01, 3);
+  }
+  // Twelve points on a circle across each node's branch: the trunk's and the stub's of radius 0.1,
+  // the twigs' of 0.01.
+  PointCloud cloud;
+  const auto ring = [&](NodeId v, const Eigen::Vector3d& along, double r) {
+    const Eigen::Vector3d u = along.unitOrthogonal(), w = along.cross(u);
+    for (int k = 0; k < 12; ++k) {
+      const double a = 2.0 * 3.14159265358979323846 * k / 12.0;
+      s[v].points.push_back(static_cast<std::uint32_t>(cloud.size()));
+      cloud.positions.push_back(s[v].position + r * (std::cos(a) * u + std::sin(a) * w));
+    }
+  };
+  for (NodeId v = 0; v <= 40; ++v) ring(v, Eigen::Vector3d::UnitZ(), 0.1);
+  ring(stub - 1, Eigen::Vector3d::UnitX(), 0.1);
+  ring(stub, Eigen::Vector3d::UnitX(), 0.1);
+  for (NodeId v = stub + 1; v < s.node_count(); ++v) ring(v, twig_direction[(v - stub - 1) / 3], 0.01);
+  ASSERT_EQ(validate(s, cloud.size()), "");
+  const NodeId above = 11;  // the trunk's first node above the fork
+  Skeleton unbounded = s;
+  fit_radii(unbounded, &cloud);  // unbounded by default
+  RadiusOptions bound;
+  bound.max_share_over_pipe = 4.0;
+  fit_radii(s, &cloud, bound);
+  expect_pipe_model(s, 2.0);
+  expect_pipe_model(unbounded, 2.0);
+  // The fork measures 0.099 either way. Unbounded, the stub takes 34% of its cross section and
+  // the trunk above it is 0.081; bounded (four times the stub's pipe share of 5.6%), 22% and 0.088.
+  EXPECT_NEAR(s[fork].radius, 0.099, 0.002);
+  EXPECT_LT(unbounded[above].radius, 0.082);
+  EXPECT_GT(unbounded[stub - 1].radius, 0.055);
+  EXPECT_GT(s[above].radius, 0.086);
+  EXPECT_LT(s[stub - 1].radius, 0.05);
+  // Stored radii are taken as they are: the same skeleton without a cloud is not bounded.
+  Skeleton stored = s;
+  for (NodeId v = 0; v < stored.node_count(); ++v) stored[v].radius = v == stub - 1 || v == stub ? 0.1 : s[v].radius;
+  stored[fork].radius = 0.1;
+  fit_radii(stored, nullptr, bound);
+  EXPECT_GT(stored[stub - 1].radius, s[stub - 1].radius * 1.2);
+  RadiusOptions bad;
+  bad.max_share_over_pipe = 0.5;
+  EXPECT_THROW(fit_radii(s, &cloud, bad), OptionError);
+}
+
 }  // namespace
 }  // namespace treeskel::modeling
