@@ -55,6 +55,20 @@ def test_model_equals_the_commands(exe, data, tmp_path):
     assert np.array_equal(skeleton.radii, treeskel.fit_radii(skeleton, exponent=2.2).radii)
 
 
+def test_stem_share_bound_as_the_command(exe, data, tmp_path):
+    # The bound on a stem fork's shares reaches the radii as `model --stem-share-bound` does.
+    cloud = str(data / "tree_adtree1.xyz")
+    skeleton = treeskel.extract_skeleton(cloud)
+    bounded = treeskel.fit_radii(skeleton, stem_share_bound=2)
+    assert not np.array_equal(bounded.radii, treeskel.fit_radii(skeleton).radii)
+    _, mesh, _ = treeskel.model(cloud, stem_share_bound=2, local=True)
+    mesh.save(str(tmp_path / "py.ply"), local=True)
+    run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", "--stem-share-bound", 2, "-q")
+    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    with pytest.raises(ValueError, match="stem-share-bound"):
+        treeskel.fit_radii(skeleton, stem_share_bound=0.5)
+
+
 def test_model_warns_as_the_command_does(data):
     points = np.loadtxt(data / "tree_rtwig.txt")[:, :3]
     # The bundled tree as it is: nothing to warn about.
