@@ -299,9 +299,6 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
       estimate[i] = std::min(estimate[i], options.max_share_over_pipe * total * carries[i] / carried_total);
   };
 
-  std::vector<double> area(n, 0.0);  // r^e
-  // Start values of the chains leaving a fork: the fork's cross section shared in proportion to
-  // what each chain's start is estimated at (measured where it can be, else the pipe model).
   // The stem: from the root, at every fork the child that carries the most.
   std::vector<bool> stem(t.chains.size(), false);
   auto mark_stem = [&](const std::vector<std::size_t>& chain_ids) {
@@ -310,6 +307,10 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
       if (carried[own_nodes(t.chains[id]).front()] > carried[own_nodes(t.chains[best]).front()]) best = id;
     stem[best] = true;
   };
+
+  std::vector<double> area(n, 0.0);  // r^e
+  // Start values of the chains leaving a fork: the fork's cross section shared in proportion to
+  // what each chain's start is estimated at (measured where it can be, else the pipe model).
   auto split_fork = [&](NodeId fork, const std::vector<std::size_t>& chain_ids, bool fork_known, bool on_stem) {
     std::vector<double> estimate;
     for (std::size_t id : chain_ids) {
