@@ -25,7 +25,7 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
                "At each fork on the stem, let no branch take more than K times the share of the stem's cross "
                "section that the pipe model gives it (0: off, else at least 1). For conifers, where circle fits take "
                "in the needles around the branches of a whorl and the stem above comes out too thin: 4 gave "
-               "TreeLS's pine and spruce stems 2-3x thicker, close to their points. Off by default: it made one "
+               "TreeLS's pine a stem twice as thick, close to its points. Off by default: it made one "
                "broadleaved tree's mesh 160x slower to build (docs/models.md)")
       ->default_val(r.max_share_over_pipe)
       ->check([](const std::string& text) -> std::string {

@@ -54,8 +54,8 @@ struct RadiusOptions {
   /// section that the pipe model gives it (what it carries over what all the children carry).
   /// Circle fits around a conifer's side branches take in the needles and come out as wide as the
   /// stem; unbounded, such branches, carrying 0.3-5% of the length, took 15-50% of the stem at
-  /// their forks, and TreeLS's pine and spruce were modelled with stems a third and a fifth as
-  /// thick as their points (docs/models.md). Bounded at every fork, the crowns of broadleaved trees
+  /// their forks, and TreeLS's pine was modelled with a stem 0.4 times as thick as its points, the
+  /// spruce with almost none (docs/models.md). Bounded at every fork, the crowns of broadleaved trees
   /// grew thicker than their reference models. 0 (the default) leaves the shares unbounded: at 4,
   /// one of AdTree's broadleaved trees took 160 times as long to mesh (docs/models.md). Only with a
   /// cloud: a skeleton's stored radii are taken as they are. `treeskel model --stem-share-bound`.
