@@ -4,9 +4,6 @@
 
 #include "treeskel/modeling/measurements.h"
 
-#include <stdexcept>
-#include <string>
-
 namespace treeskel::cli {
 
 void add_model_options(CLI::App& c, ModelSettings& s) {
@@ -27,16 +24,7 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
                "in the needles around the branches of a whorl and the stem above comes out too thin: 4 gave "
                "TreeLS's pine a stem twice as thick, close to its points. Off by default: it made one "
                "broadleaved tree's mesh 160x slower to build (docs/models.md)")
-      ->default_val(r.max_share_over_pipe)
-      ->check([](const std::string& text) -> std::string {
-        double k = -1.0;
-        try {
-          k = std::stod(text);
-        } catch (const std::exception&) {
-        }
-        return k == 0.0 || k >= 1.0 ? "" : "must be 0 (off) or a number of at least 1, not " + text;
-      })
-      ->group(g);
+      ->default_val(r.max_share_over_pipe)->check(off_or_at_least(1.0))->group(g);
   c.add_option("--fit-points", r.min_points, "Fewest points of a node for its radius to be measured by a circle fit")
       ->default_val(r.min_points)->check(in_range(3, 100000))->group(g);
   c.add_option("--segments", w.trunk_segments, "Polygon sides around the trunk; thinner branches get fewer")

@@ -91,6 +91,11 @@ CLI::Validator not_negative() {
   return number_check([](double v) { return v >= 0.0 && std::isfinite(v); }, "a number not below 0");
 }
 
+CLI::Validator off_or_at_least(double lo) {
+  return number_check([lo](double v) { return v == 0.0 || (v >= lo && std::isfinite(v)); },
+                      "0 (off) or at least " + short_number(lo));
+}
+
 std::string format_duration(double seconds) {
   const long t = std::lround(seconds);
   std::ostringstream out;

@@ -50,9 +50,10 @@ double peak_memory_mb();
 
 /// Option checks whose messages print the bounds as they are written ("between 0 and 1", not
 /// CLI11's 300-digit rendering of the largest double): a number in [lo, hi], a positive number, a
-/// number not below zero.
+/// number not below zero, 0 (off) or a number of at least lo.
 CLI::Validator in_range(double lo, double hi);
 CLI::Validator positive();
 CLI::Validator not_negative();
+CLI::Validator off_or_at_least(double lo);
 
 }  // namespace treeskel::cli

@@ -266,10 +266,12 @@ TEST(Cli, ModelBoundsTheStemsSharesWhenAsked) {
   const Result plain = run("model " + cloud + " -o plain.ply --json", dir.root());
   ASSERT_EQ(plain.code, 0) << plain.out;
   EXPECT_EQ(nlohmann::json::parse(plain.out)["radii"]["stem_share_bound"].get<double>(), 0.0);
-  const Result under = run("model " + cloud + " --stem-share-bound 0.5 -o bad.ply", dir.root());
-  EXPECT_EQ(under.code, 2) << under.out;
-  EXPECT_NE(under.out.find("--stem-share-bound"), std::string::npos) << under.out;
-  EXPECT_FALSE(std::filesystem::exists(dir.path("bad.ply")));
+  for (const std::string bad : {"0.5", "inf", "4x"}) {
+    const Result refused = run("model " + cloud + " --stem-share-bound " + bad + " -o bad.ply", dir.root());
+    EXPECT_EQ(refused.code, 2) << bad << ": " << refused.out;
+    EXPECT_NE(refused.out.find("--stem-share-bound"), std::string::npos) << refused.out;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("bad.ply")));
+  }
 }
 
 TEST(Cli, ModelWarnsAboutAnUpAxisOrUnitsThatLookWrong) {
