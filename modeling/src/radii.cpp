@@ -283,43 +283,33 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
     return {weighted_median(values), std::min(1.0, confidence / 2.0)};
   };
 
-  // At a fork on the stem, no child's estimate claims more than `max_share_over_pipe` times its
-  // pipe-model share (see RadiusOptions): side branches whose fits take in their needles would
-  // otherwise starve the stem.
-  auto cap_fit_shares = [&](std::vector<double>& estimate, const std::vector<std::size_t>& chain_ids) {
-    double total = 0.0, carried_total = 0.0;
-    std::vector<double> carries;
-    for (std::size_t i = 0; i < chain_ids.size(); ++i) {
-      carries.push_back(carried[own_nodes(t.chains[chain_ids[i]]).front()]);
-      total += estimate[i];
-      carried_total += carries.back();
-    }
+  // At a fork on the stem (from the root, at every fork the child that carries the most), no
+  // child's estimate claims more than `max_share_over_pipe` times its pipe-model share (see
+  // RadiusOptions): side branches whose fits take in their needles would otherwise starve the stem.
+  const bool bounded = cloud != nullptr && options.max_share_over_pipe > 0.0;
+  std::vector<bool> stem(t.chains.size(), false);
+  auto bound_stem_fork = [&](std::vector<double>& estimate, const std::vector<double>& carries,
+                             const std::vector<std::size_t>& chain_ids) {
+    stem[chain_ids[static_cast<std::size_t>(std::max_element(carries.begin(), carries.end()) - carries.begin())]] = true;
+    const double total = std::accumulate(estimate.begin(), estimate.end(), 0.0);
+    const double carried_total = std::accumulate(carries.begin(), carries.end(), 0.0);
     if (!(total > 0.0) || !(carried_total > 0.0)) return;
     for (std::size_t i = 0; i < estimate.size(); ++i)
       estimate[i] = std::min(estimate[i], options.max_share_over_pipe * total * carries[i] / carried_total);
-  };
-
-  // The stem: from the root, at every fork the child that carries the most.
-  std::vector<bool> stem(t.chains.size(), false);
-  auto mark_stem = [&](const std::vector<std::size_t>& chain_ids) {
-    std::size_t best = chain_ids.front();
-    for (std::size_t id : chain_ids)
-      if (carried[own_nodes(t.chains[id]).front()] > carried[own_nodes(t.chains[best]).front()]) best = id;
-    stem[best] = true;
   };
 
   std::vector<double> area(n, 0.0);  // r^e
   // Start values of the chains leaving a fork: the fork's cross section shared in proportion to
   // what each chain's start is estimated at (measured where it can be, else the pipe model).
   auto split_fork = [&](NodeId fork, const std::vector<std::size_t>& chain_ids, bool fork_known, bool on_stem) {
-    std::vector<double> estimate;
+    std::vector<double> estimate, carries;
     for (std::size_t id : chain_ids) {
       const auto nodes = own_nodes(t.chains[id]);
       const auto [value, confidence] = measured_start(nodes);
-      estimate.push_back(confidence * value + (1.0 - confidence) * global_scale * carried[nodes.front()]);
+      carries.push_back(carried[nodes.front()]);
+      estimate.push_back(confidence * value + (1.0 - confidence) * global_scale * carries.back());
     }
-    if (on_stem) mark_stem(chain_ids);
-    if (on_stem && cloud != nullptr && options.max_share_over_pipe > 0.0) cap_fit_shares(estimate, chain_ids);
+    if (bounded && on_stem) bound_stem_fork(estimate, carries, chain_ids);
     const double total = std::accumulate(estimate.begin(), estimate.end(), 0.0);
     if (!fork_known) area[fork] = total;
     for (std::size_t i = 0; i < chain_ids.size(); ++i)

@@ -249,7 +249,6 @@ TEST(Cli, ModelCompleteGrowsBranchesThroughThePointsItPassedBy) {
   EXPECT_NE(saved.out.find("--complete needs the cloud's points"), std::string::npos) << saved.out;
 }
 
-// A Y-up cloud modeled as Z-up, and the same cloud in millimetres, are warned about.
 // --stem-share-bound reaches the radii (and the report); a bound under 1 is refused by name.
 TEST(Cli, ModelBoundsTheStemsSharesWhenAsked) {
   test::TempDir dir;
@@ -274,6 +273,7 @@ TEST(Cli, ModelBoundsTheStemsSharesWhenAsked) {
   }
 }
 
+// A Y-up cloud modeled as Z-up, and the same cloud in millimetres, are warned about.
 TEST(Cli, ModelWarnsAboutAnUpAxisOrUnitsThatLookWrong) {
   test::TempDir dir;
   const PointCloud tree = io::read_point_cloud(test::data_file("tree_rtwig.txt"));
