@@ -44,6 +44,7 @@ struct Piece {
   Skeleton skeleton;
   TreeMesh mesh;
   int nudges = 0;  // times moved to clear a crossing (see Uniter::nudge)
+  SweepStats counts;  // what its sweep added to the tree's counts (taken back when it is split)
 };
 
 Box face_box(const TreeMesh& mesh, TreeMesh::FaceHandle f) {
@@ -228,8 +229,8 @@ class Uniter {
         if (kept.node_count() < 2 ||
             std::any_of(apart.begin(), apart.end(), [&](const Skeleton& a) { return a.node_count() >= piece.node_count(); }))
           throw Error("the piece's sweep left it apart whole");
-        out.push_back({std::move(kept), std::move(mesh)});
         add_counts(st_, piece_stats);
+        out.push_back({std::move(kept), std::move(mesh), 0, piece_stats});
         ++st_.pieces;
         for (auto& a : apart) todo.push_back(std::move(a));
         continue;
@@ -362,6 +363,8 @@ class Uniter {
     std::vector<Piece> aside;
     for (;;) {
       const auto parts = split_piece(piece.skeleton);
+      // Its parts' sweeps count their branches and joins again.
+      if (!parts.empty()) take_counts(st_, piece.counts);
       if (parts.empty()) {
         if (aside.empty()) {  // a single segment, refused alone: left out (said in the report)
           ++st_.pieces_failed;
@@ -406,20 +409,28 @@ void append_mesh(TreeMesh& mesh, const TreeMesh& part) {
   }
 }
 
+/// Applies `op(count of to, count of from)` to every count of what a piece's sweep put into the
+/// mesh: its branches, joins and what was thinned, left out or swept apart.
+template <class Op>
+void each_content_count(SweepStats& to, const SweepStats& from, Op op) {
+  op(to.branches, from.branches);
+  op(to.junctions, from.junctions);
+  op(to.merged_forks, from.merged_forks);
+  op(to.straightened_branches, from.straightened_branches);
+  op(to.thin_left_out, from.thin_left_out);
+  op(to.relocated_branches, from.relocated_branches);
+  op(to.twigs_absorbed, from.twigs_absorbed);
+  op(to.joins_thinned, from.joins_thinned);
+  op(to.joins_dropped, from.joins_dropped);
+  op(to.repaired_shrunk, from.repaired_shrunk);
+  op(to.repaired_dropped, from.repaired_dropped);
+}
+
 }  // namespace
 
 void add_counts(SweepStats& to, const SweepStats& from) {
-  to.branches += from.branches;
-  to.junctions += from.junctions;
-  to.merged_forks += from.merged_forks;
-  to.straightened_branches += from.straightened_branches;
-  to.thin_left_out += from.thin_left_out;
-  to.relocated_branches += from.relocated_branches;
-  to.twigs_absorbed += from.twigs_absorbed;
-  to.joins_thinned += from.joins_thinned;
-  to.joins_dropped += from.joins_dropped;
-  to.repaired_shrunk += from.repaired_shrunk;
-  to.repaired_dropped += from.repaired_dropped;
+  each_content_count(to, from, [](auto& a, auto b) { a += b; });
+  // The work done, which stays done when a piece is split.
   to.repair_rounds += from.repair_rounds;
   to.late_repair_rounds += from.late_repair_rounds;
   to.attempts += from.attempts;
@@ -429,6 +440,10 @@ void add_counts(SweepStats& to, const SweepStats& from) {
   to.pieces_failed += from.pieces_failed;
   to.unions += from.unions;
   to.welded_edges += from.welded_edges;
+}
+
+void take_counts(SweepStats& to, const SweepStats& from) {
+  each_content_count(to, from, [](auto& a, auto b) { a -= std::min(a, b); });
 }
 
 std::vector<TreeMesh::Point> world_floats(const TreeMesh& mesh, const Eigen::Vector3d& offset) {

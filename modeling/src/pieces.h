@@ -47,6 +47,11 @@ TreeMesh sweep_part(const Skeleton& skeleton, const SweepOptions& options, const
 /// Adds to `to` the counts of `from` (a piece's sweep) that add up over pieces.
 void add_counts(SweepStats& to, const SweepStats& from);
 
+/// Takes back from `to` the counts of what `from`'s sweep put into the mesh (branches, joins, what
+/// was thinned or swept apart), never below zero: a piece split after it was counted has its parts
+/// swept and counted again. The work it took (attempts, repair rounds) stays counted.
+void take_counts(SweepStats& to, const SweepStats& from);
+
 /// The points of `mesh` (by vertex index) as the 32-bit floats they become in the frame `offset`
 /// leads to, where a file holds them: where to place the vertices to test the mesh as read back.
 std::vector<TreeMesh::Point> world_floats(const TreeMesh& mesh, const Eigen::Vector3d& offset);

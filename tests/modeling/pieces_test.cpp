@@ -72,6 +72,41 @@ TEST(Pieces, SplittingEnds) {
   EXPECT_GT(segments, 20u);
 }
 
+// A piece split after its sweep was counted (its union crossed itself) has its parts swept and
+// counted again: what it put into the mesh is taken back, the work it took is not, and no count
+// goes below zero. (Split pieces once made the report give 5,600 branches for a tree of 1,200.)
+TEST(Pieces, ASplitPiecesCountsAreTakenBackButNotItsWork) {
+  SweepStats tree;
+  tree.branches = 40;
+  tree.junctions = 18;
+  tree.joins_dropped = 2;
+  tree.attempts = 3;
+  SweepStats piece;
+  piece.branches = 7;
+  piece.junctions = 3;
+  piece.merged_forks = 1;
+  piece.relocated_branches = 2;
+  piece.repaired_shrunk = 1;
+  piece.attempts = 2;
+  piece.repair_rounds = 1;
+  add_counts(tree, piece);
+  EXPECT_EQ(tree.branches, 47u);
+  EXPECT_EQ(tree.attempts, 5);
+  take_counts(tree, piece);
+  EXPECT_EQ(tree.branches, 40u);
+  EXPECT_EQ(tree.junctions, 18u);
+  EXPECT_EQ(tree.merged_forks, 0u);
+  EXPECT_EQ(tree.relocated_branches, 0u);
+  EXPECT_EQ(tree.repaired_shrunk, 0u);
+  EXPECT_EQ(tree.joins_dropped, 2u);
+  EXPECT_EQ(tree.attempts, 5);  // the sweeps were run
+  EXPECT_EQ(tree.repair_rounds, 1);
+  SweepStats none;
+  take_counts(none, piece);
+  EXPECT_EQ(none.branches, 0u);
+  EXPECT_EQ(none.junctions, 0u);
+}
+
 // faces_touching hashes the boxes into a grid (boxes over many cells kept aside): it must find what
 // testing every face against every box finds, for small, flat, large and no boxes.
 TEST(Pieces, FacesTouchingBoxesAsTestingEachPair) {

@@ -71,7 +71,9 @@ struct SweepOptions {
 
 /// What `sweep_mesh` did, for reports.
 struct SweepStats {
-  std::size_t branches = 0;          ///< chains swept into tubes
+  /// Chains swept into tubes. A piece split for the union counts what its parts' sweeps count, not
+  /// its own as well; a chain a split cuts into two overlapping halves counts once per half.
+  std::size_t branches = 0;
   std::size_t junctions = 0;         ///< convex-hull joins (a join may hold several close forks)
   std::size_t merged_forks = 0;      ///< forks joined with a neighbour into one hull
   std::size_t straightened_branches = 0;  ///< branches between two forks that doubled back, swept straight
