@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace treeskel::modeling {
@@ -244,6 +245,8 @@ TEST(FitRadii, AStubThatMeasuresItsParentDoesNotStarveIt) {
   EXPECT_GT(stored[stub - 1].radius, s[stub - 1].radius * 1.2);
   RadiusOptions bad;
   bad.max_share_over_pipe = 0.5;
+  EXPECT_THROW(fit_radii(s, &cloud, bad), OptionError);
+  bad.max_share_over_pipe = std::numeric_limits<double>::infinity();  // not "off": 0 is
   EXPECT_THROW(fit_radii(s, &cloud, bad), OptionError);
 }
 
