@@ -2,6 +2,7 @@
 //
 //   bench_accuracy [--seeds 1,2,3] [--out docs/accuracy.md] [--paper bench/data/paper_tables.csv]
 //                  [--pypetree DIR] [--sets paper,hard] [--prune-radius F] [--band-factor F]
+//                  [--max-extra-depth N]
 //
 // Generates the six ground-truth trees and their 72 clouds for every seed, skeletonizes each cloud with
 // six configurations (the paper's method with its octree depth and without treeskel's level-set fixes,
@@ -77,6 +78,7 @@ struct PaperNumbers {
 PaperNumbers read_paper(const std::string& path) {
   PaperNumbers paper;
   std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read the paper's numbers from " + path + " (run from the repository, or give --paper)");
   std::string line;
   std::getline(in, line);  // header: table,metric,cloud,L1,L1_MST,ROSA,CPC
   while (std::getline(in, line)) {
@@ -240,6 +242,7 @@ int main(int argc, char** argv) {
   std::string out = "docs/accuracy.md", paper_csv = "bench/data/paper_tables.csv", pypetree;
   bool run_paper = true, run_hard = true;
   double prune_radius = PruneOptions{}.radius_factor, band_factor = 1.0;
+  int extra_depth = OctreeOptions{}.max_extra_depth;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -258,6 +261,8 @@ int main(int argc, char** argv) {
       pypetree = value();
     } else if (a == "--band-factor") {
       band_factor = std::stod(value());
+    } else if (a == "--max-extra-depth") {
+      extra_depth = std::stoi(value());
     } else if (a == "--prune-radius") {
       prune_radius = std::stod(value());
     } else if (a == "--sets") {
@@ -269,12 +274,15 @@ int main(int argc, char** argv) {
       std::cout << "usage: bench_accuracy [--seeds 1,2,3] [--out FILE.md] [--paper paper_tables.csv] [--pypetree DIR] [--sets paper,hard]\n"
                    "                      [--prune-radius F  (treeskel's spur pruning factor, to try a value)]\n"
                    "                      [--band-factor F  (treeskel's band width as F times its default, 2 cells;\n"
-                   "                                         the pruning length stays at the default band)]\n";
+                   "                                         the pruning length stays at the default band)]\n"
+                   "                      [--max-extra-depth N  (treeskel's octree at most N levels deeper than the\n"
+                   "                                             paper's 2 + log8 N, to try a value; default 1)]\n";
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }
   auto configs = configurations();
   configs.back().options.prune.radius_factor = prune_radius;
+  configs.back().options.octree.max_extra_depth = extra_depth;
   // treeskel's options for one cloud: the band width scaled by --band-factor (the scales that follow
   // the cell are fixed first, so only the band changes).
   const auto options_for = [&](const Config& config, const PointCloud& cloud) {
@@ -294,7 +302,7 @@ int main(int argc, char** argv) {
     }
   };
   const std::size_t full = configs.size() - 1, paper_method = configs.size() - 2;
-  const PaperNumbers paper = read_paper(paper_csv);
+  const PaperNumbers paper = run_paper ? read_paper(paper_csv) : PaperNumbers{};
   const auto start = std::chrono::steady_clock::now();
 
   std::map<std::uint64_t, std::vector<Row>> rows;  // by seed
