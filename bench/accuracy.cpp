@@ -2,7 +2,7 @@
 //
 //   bench_accuracy [--seeds 1,2,3] [--out docs/accuracy.md] [--paper bench/data/paper_tables.csv]
 //                  [--pypetree DIR] [--sets paper,hard] [--prune-radius F] [--band-factor F]
-//                  [--max-extra-depth N]
+//                  [--max-extra-depth N] [--deeper-reach R]
 //
 // Generates the six ground-truth trees and their 72 clouds for every seed, skeletonizes each cloud with
 // six configurations (the paper's method with its octree depth and without treeskel's level-set fixes,
@@ -242,7 +242,7 @@ int main(int argc, char** argv) {
   std::string out = "docs/accuracy.md", paper_csv = "bench/data/paper_tables.csv", pypetree;
   bool run_paper = true, run_hard = true;
   double prune_radius = PruneOptions{}.radius_factor, band_factor = 1.0;
-  int extra_depth = OctreeOptions{}.max_extra_depth;
+  int extra_depth = OctreeOptions{}.max_extra_depth, deeper_reach = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -263,6 +263,8 @@ int main(int argc, char** argv) {
       band_factor = std::stod(value());
     } else if (a == "--max-extra-depth") {
       extra_depth = std::stoi(value());
+    } else if (a == "--deeper-reach") {
+      deeper_reach = std::stoi(value());
     } else if (a == "--prune-radius") {
       prune_radius = std::stod(value());
     } else if (a == "--sets") {
@@ -276,7 +278,9 @@ int main(int argc, char** argv) {
                    "                      [--band-factor F  (treeskel's band width as F times its default, 2 cells;\n"
                    "                                         the pruning length stays at the default band)]\n"
                    "                      [--max-extra-depth N  (treeskel's octree at most N levels deeper than the\n"
-                   "                                             paper's 2 + log8 N, to try a value; default 1)]\n";
+                   "                                             paper's 2 + log8 N, to try a value; default 1)]\n"
+                   "                      [--deeper-reach R  (one octree level deeper where the density rule allows\n"
+                   "                                          it, with cells up to R apart as neighbours there)]\n";
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }
@@ -286,6 +290,16 @@ int main(int argc, char** argv) {
   // treeskel's options for one cloud: the band width scaled by --band-factor (the scales that follow
   // the cell are fixed first, so only the band changes).
   const auto options_for = [&](const Config& config, const PointCloud& cloud) {
+    if (&config == &configs.back() && deeper_reach > 0) {
+      // The depth one more level allows, and cells up to R apart as neighbours where it is taken (a
+      // finer grid whose sparse rings still hold together); every scale then follows the finer cell.
+      SkeletonOptions fine = config.options;
+      fine.octree.max_extra_depth = config.options.octree.max_extra_depth + 1;
+      fine = automatic_options(cloud, fine);
+      if (fine.octree.depth <= automatic_options(cloud, config.options).octree.depth) return config.options;
+      fine.graph.reach = deeper_reach;
+      return fine;
+    }
     if (&config != &configs.back() || band_factor == 1.0) return config.options;
     SkeletonOptions o = automatic_options(cloud, config.options);
     o.level_sets.band_width *= band_factor;
