@@ -7,7 +7,9 @@
 set -euo pipefail
 filter=${1:?usage: gui-open-filter.sh FILTER_NAME}
 main=""
-for i in $(seq 60); do
+# Up to two minutes: on a busy machine (the suite runs two tests at a time, some of them heavy)
+# MeshLab once took more than the 30 s this waited before to show its window.
+for i in $(seq 240); do
   main=$(xdotool search --onlyvisible --name "MeshLab 2020" 2>/dev/null | head -n 1) || true
   [ -n "$main" ] && break; sleep 0.5
 done
