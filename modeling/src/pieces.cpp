@@ -363,8 +363,6 @@ class Uniter {
     std::vector<Piece> aside;
     for (;;) {
       const auto parts = split_piece(piece.skeleton);
-      // Its parts' sweeps count their branches and joins again.
-      if (!parts.empty()) take_counts(st_, piece.counts);
       if (parts.empty()) {
         if (aside.empty()) {  // a single segment, refused alone: left out (said in the report)
           ++st_.pieces_failed;
@@ -373,6 +371,7 @@ class Uniter {
         ++st_.pieces;  // tried below, counted as the pieces `sweep` gives
         break;
       }
+      take_counts(st_, piece.counts);  // its parts' sweeps count their branches and joins again
       std::vector<Piece> smaller;
       for (const auto& part : parts) sweep(part, smaller);
       std::vector<Piece> at;  // the parts at the spots

@@ -198,8 +198,7 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
   if (options.start_share <= 0.0 || options.start_share > 1.0) throw OptionError("the start share must be in (0, 1]");
   if (options.smoothing < 0) throw OptionError("the smoothing window must not be negative");
   if (!(options.tip_weight > 0.0)) throw OptionError("the tip weight must be positive");
-  if (!std::isfinite(options.max_share_over_pipe) || options.max_share_over_pipe < 0.0 ||
-      (options.max_share_over_pipe > 0.0 && options.max_share_over_pipe < 1.0))
+  if (const double k = options.max_share_over_pipe; !(k == 0.0 || (k >= 1.0 && std::isfinite(k))))
     throw OptionError("the bound on a child's share over the pipe model's must be 0 (none) or a finite number of at least 1");
   const ChainTree t = build_chains(skeleton);
   auto& g = skeleton.graph;
