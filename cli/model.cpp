@@ -18,6 +18,7 @@
 #include "treeskel/modeling/sweep.h"
 
 #include <nlohmann/json.hpp>
+#include <tbb/parallel_invoke.h>
 
 #include <cmath>
 #include <filesystem>
@@ -128,13 +129,17 @@ int run(Settings& s) {
     throw InputError(s.input + ": " + e.what());
   }
   progress("checking the mesh", 0.9);
-  const modeling::MeshCheck check = check_swept(mesh, sweep_stats, s.sweep.repair);
+  // The checks and the share of the skeleton inside read the mesh side by side (each is mostly one
+  // core's work).
+  modeling::MeshCheck check;
+  modeling::SkeletonCoverage coverage;
+  tbb::parallel_invoke([&] { check = check_swept(mesh, sweep_stats, s.sweep.repair); },
+                       [&] { coverage = modeling::skeleton_coverage(skeleton, mesh); });
   // Several closed components (a limb swept apart that its union did not reach) are written with a
   // warning: leaving them out would lose the limbs. Every warning goes to stderr and into the report.
   if (!check.ok() && !only_apart(check) && !s.allow_defects)
     throw Error("the mesh of " + s.input + " failed its check: " + check.problem() +
                 "; nothing was written (--allow-defects writes it anyway)");
-  const modeling::SkeletonCoverage coverage = modeling::skeleton_coverage(skeleton, mesh);
   modeling::MeasureOptions mo;
   mo.up = up;
   mo.breast_height = s.breast_height;

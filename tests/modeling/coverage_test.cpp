@@ -24,6 +24,48 @@ TEST(Coverage, AMeshOfHalfTheBranchHoldsHalfItsLength) {
   EXPECT_DOUBLE_EQ(skeleton_coverage(whole, TreeMesh{}).share(), 0.0);
 }
 
+/// The unit cube [0, 1]^3, its faces turned outward.
+TreeMesh unit_cube() {
+  TreeMesh m;
+  std::vector<TreeMesh::VertexHandle> v;
+  for (int i = 0; i < 8; ++i) v.push_back(m.add_vertex(TreeMesh::Point(i & 1, (i >> 1) & 1, (i >> 2) & 1)));
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    m.add_face(v[q[0]], v[q[1]], v[q[2]]);
+    m.add_face(v[q[0]], v[q[2]], v[q[3]]);
+  }
+  return m;
+}
+
+/// A skeleton of one edge across the cube's top, `lift` above it.
+Skeleton above_the_top(double lift) {
+  Skeleton s;
+  SkeletonNode a, b;
+  a.position = {0.2, 0.3, 1.0 + lift};
+  b.position = {0.8, 0.6, 1.0 + lift};
+  s.root = add_node(s, a);
+  boost::add_edge(s.root, add_node(s, b), s.graph);
+  return s;
+}
+
+TEST(Coverage, ASkeletonOutsideButWithinTheToleranceOfTheSurfaceIsCovered) {
+  const TreeMesh cube = unit_cube();
+  ASSERT_GT(check_mesh(cube).volume, 0.0);  // outward
+  EXPECT_DOUBLE_EQ(skeleton_coverage(above_the_top(0.0), cube).share(), 1.0);          // on the surface
+  EXPECT_DOUBLE_EQ(skeleton_coverage(above_the_top(-1e-3), cube).share(), 1.0);        // inside
+  EXPECT_DOUBLE_EQ(skeleton_coverage(above_the_top(5e-4), cube, 0.0, 1e-3).share(), 1.0);  // outside, within
+  EXPECT_DOUBLE_EQ(skeleton_coverage(above_the_top(2e-3), cube, 0.0, 1e-3).share(), 0.0);  // outside, beyond
+  // From just above the top through the cube to just beside a side: within the tolerance of the side
+  // face, then a little beyond it at the very end.
+  Skeleton through = above_the_top(5e-4);
+  through[1].position = {1.0 + 5e-4, 0.6, 0.5};
+  EXPECT_DOUBLE_EQ(skeleton_coverage(through, cube, 0.0, 1e-3).share(), 1.0);
+  through[1].position = {1.0 + 2e-3, 0.6, 0.5};
+  const double share = skeleton_coverage(through, cube, 0.0, 1e-3).share();
+  EXPECT_GT(share, 0.99);
+  EXPECT_LT(share, 1.0);
+}
+
 TEST(Coverage, SurfaceDistancesOfAxisAndOutsidePoints) {
   const TreeMesh mesh = sweep_mesh(test::straight(2.0, 0.1, 20));
   const std::vector<Eigen::Vector3d> points{{0, 0, 1}, {1, 0, 1}};
