@@ -1,12 +1,8 @@
 #include "treeskel/modeling/coverage.h"
 
-#include <CGAL/boost/graph/graph_traits_TriMesh_ArrayKernelT.h>
-// After the graph helpers above (Side_of_triangle_mesh needs them declared first).
-#include <CGAL/AABB_face_graph_triangle_primitive.h>
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Side_of_triangle_mesh.h>
+#include "face_tree.h"
+
+#include <CGAL/boost/graph/property_maps.h>
 
 #include <tbb/parallel_for.h>
 
@@ -21,10 +17,8 @@ namespace treeskel::modeling {
 
 namespace {
 
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-// An AABB tree over the tree mesh's own triangles, its points read where they are (no copy).
-using MeshPoints = boost::property_map<TreeMesh, CGAL::vertex_point_t>::const_type;
-using MeshTree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_face_graph_triangle_primitive<TreeMesh, MeshPoints>>>;
+using detail::FaceTree;
+using K = detail::GT;
 
 K::Point_3 point(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
@@ -42,9 +36,9 @@ SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mes
   for (auto [it, end] = boost::edges(g); it != end; ++it)
     out.length += (g[boost::source(*it, g)].position - g[boost::target(*it, g)].position).norm();
   if (mesh.n_faces() == 0) return out;
-  MeshTree tree(faces(mesh).first, faces(mesh).second, mesh);
+  FaceTree tree(faces(mesh).first, faces(mesh).second, mesh);
   tree.build();  // before the threads read it
-  const CGAL::Side_of_triangle_mesh<TreeMesh, K, MeshPoints, MeshTree> inside(tree);
+  const detail::SideOfFaces inside(tree);
   const double tolerance2 = tolerance * tolerance;
   // Each edge on its own (the tree is only read), summed in edge order: the same share for any
   // number of threads. First which samples lie inside; then, for those outside, whether they are
@@ -81,7 +75,7 @@ SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mes
     // queries over the whole mesh cost more to build than they take to answer). The box is a little
     // larger than the tolerance, so that rounding in the distances cannot leave a triangle out.
     const double reach = 1.001 * tolerance;
-    const auto points = get(CGAL::vertex_point, mesh);
+    const CGAL::Triangle_from_face_descriptor_map<TreeMesh, detail::VPM> triangle(&mesh, get(CGAL::vertex_point, mesh));
     tbb::parallel_for(std::size_t{0}, edges.size(), [&](std::size_t e) {
       std::vector<TreeMesh::FaceHandle> near;
       for (const auto& q : outside[e]) {
@@ -89,10 +83,7 @@ SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mes
         const CGAL::Bbox_3 box(q.x() - reach, q.y() - reach, q.z() - reach, q.x() + reach, q.y() + reach, q.z() + reach);
         tree.all_intersected_primitives(box, std::back_inserter(near));
         const bool close = std::any_of(near.begin(), near.end(), [&](TreeMesh::FaceHandle f) {
-          const auto h = mesh.halfedge_handle(f);
-          const K::Triangle_3 t(get(points, mesh.from_vertex_handle(h)), get(points, mesh.to_vertex_handle(h)),
-                                get(points, mesh.to_vertex_handle(mesh.next_halfedge_handle(h))));
-          return CGAL::squared_distance(q, t) <= tolerance2;
+          return CGAL::squared_distance(q, get(triangle, f)) <= tolerance2;
         });
         if (close) ++hits[e];
       }
@@ -110,7 +101,7 @@ SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mes
 std::vector<double> surface_distances(const TreeMesh& mesh, const std::vector<Eigen::Vector3d>& points) {
   std::vector<double> out(points.size(), std::numeric_limits<double>::infinity());
   if (mesh.n_faces() == 0) return out;
-  MeshTree tree(faces(mesh).first, faces(mesh).second, mesh);
+  FaceTree tree(faces(mesh).first, faces(mesh).second, mesh);
   tree.accelerate_distance_queries();
   for (std::size_t i = 0; i < points.size(); ++i) out[i] = std::sqrt(tree.squared_distance(point(points[i])));
   return out;

@@ -1,5 +1,6 @@
 #include "mesh_union.h"
 
+#include "face_tree.h"
 #include "surface_mesh.h"
 
 #include "treeskel/disjoint_sets.h"
@@ -15,11 +16,6 @@
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/boost/graph/Face_filtered_graph.h>
 #include <CGAL/boost/graph/copy_face_graph.h>
-// After the graph helpers the headers above bring (Side_of_triangle_mesh needs them declared first).
-#include <CGAL/AABB_face_graph_triangle_primitive.h>
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 
 #include <tbb/parallel_for.h>
@@ -122,12 +118,6 @@ TreeMesh to_tree_mesh(const Surface& s, const Eigen::Vector3d& offset) {
   for (const auto& c : faces) out.add_face(handle[c[0]], handle[c[1]], handle[c[2]]);
   return out;
 }
-
-using GT = CGAL::Exact_predicates_inexact_constructions_kernel;
-using VPM = boost::property_map<TreeMesh, CGAL::vertex_point_t>::const_type;
-/// An AABB tree of a tree mesh's faces, in doubles.
-using FaceTree = CGAL::AABB_tree<CGAL::AABB_traits<GT, CGAL::AABB_face_graph_triangle_primitive<TreeMesh, VPM>>>;
-using SideOfFaces = CGAL::Side_of_triangle_mesh<TreeMesh, GT, VPM, FaceTree>;
 
 /// Which side of a closed mesh a point lies on (an AABB tree of its faces in doubles, exact predicates).
 class SideOf {
