@@ -201,8 +201,17 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
     m.dbh = 2.0 * ((1.0 - f) * g[trunk[i]].radius + f * g[trunk[i + 1]].radius);
     m.dbh_source = DbhSource::model;
     m.dbh_height = options.breast_height;
-    if (cloud && options.dbh_from_points)
-      if (const auto measured = slice_at(options.breast_height)) {
+    if (cloud && options.dbh_from_points) {
+      if (const auto measured = slice_at(options.breast_height); !measured) {
+        // No reliable circle at breast height (a fork there, or the slice spans a limb): the slice
+        // just under it, as foresters measure a stem that forks at breast height.
+        if (const auto under = slice_at(options.breast_height - 2.0 * half)) {
+          m.dbh = *under;
+          m.dbh_source = DbhSource::points;
+          m.dbh_height = options.breast_height - 2.0 * half;
+          m.dbh_unfit_at_breast_height = true;
+        }
+      } else {
         m.dbh = *measured;
         m.dbh_source = DbhSource::points;
         // A stem that is more than kSwelling thicker at breast height than just below it swells
@@ -214,6 +223,7 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
           m.dbh_height = lower;
         }
       }
+    }
   }
   return m;
 }
@@ -223,7 +233,8 @@ std::string dbh_note(const TreeMeasurements& m) {
   if (m.dbh_source != DbhSource::points) return " (from the model)";
   if (m.dbh_height == m.breast_height) return " (fitted to the points)";
   std::ostringstream s;
-  s << " (fitted to the points at " << std::setprecision(3) << m.dbh_height << ", below a swelling at " << m.breast_height << ")";
+  s << " (fitted to the points at " << std::setprecision(3) << m.dbh_height
+    << (m.dbh_unfit_at_breast_height ? ", where none fits at " : ", below a swelling at ") << m.breast_height << ")";
   return s.str();
 }
 

@@ -140,6 +140,20 @@ TEST(MeasureTree, DbhIsTakenBelowASwellingAtBreastHeight) {
   EXPECT_EQ(dbh_note(n), " (fitted to the points)");
 }
 
+TEST(MeasureTree, DbhIsTakenJustBelowWhereNoCircleFitsAtBreastHeight) {
+  // A trunk of radius 0.1 seen all round up to 1.2 m, and above only on a 0.5 rad arc (a fork's
+  // limbs hide it, or the slice spans a limb): no reliable circle at 1.3, one at 1.1.
+  PointCloud cloud = trunk_cloud(0.1, 1.2, 2.0 * kPi, 0.001, 3000);
+  const PointCloud arc = trunk_cloud(0.1, 1.8, 0.5, 0.001, 4500);
+  for (const auto& p : arc.positions) cloud.positions.push_back(p + Eigen::Vector3d(0, 0, 1.2));
+  const TreeMeasurements m = measure_tree(trunk_skeleton(0.12, 3.0, 0.0), &cloud);
+  EXPECT_EQ(m.dbh_source, DbhSource::points);
+  EXPECT_NEAR(*m.dbh, 0.2, 0.004);
+  EXPECT_NEAR(m.dbh_height, 1.3 - 0.2, 1e-12);
+  EXPECT_TRUE(m.dbh_unfit_at_breast_height);
+  EXPECT_EQ(dbh_note(m), " (fitted to the points at 1.1, where none fits at 1.3)");
+}
+
 TEST(MeasureTree, TrunkRisesPastThickClutterAtTheBase) {
   // Ground or roots left in a scan: a chain off the base, thicker than the stem, that stays low.
   Skeleton s;

@@ -48,8 +48,10 @@ struct TreeMeasurements {
   DbhSource dbh_source = DbhSource::none;
   double breast_height = 0.0;
   /// Height above the base where the DBH was taken: `breast_height`, or a little below it where the
-  /// points show the stem swelling there (a fork, a branch, a burl), as foresters measure.
+  /// points show the stem swelling there (a fork, a branch, a burl), as foresters measure, or where no
+  /// reliable circle fits at breast height (a fork there) and one fits just below.
   double dbh_height = 0.0;
+  bool dbh_unfit_at_breast_height = false;  ///< taken below breast height because none fits there
   double volume = 0.0;          ///< sum of the frustums between adjacent skeleton nodes
   double length = 0.0;          ///< total skeleton length
   double trunk_length = 0.0;    ///< length of branch 1
@@ -58,7 +60,8 @@ struct TreeMeasurements {
 };
 
 /// How the DBH was taken, for summaries: " (fitted to the points)", " (fitted to the points at 1.1,
-/// below a swelling at 1.3)", " (from the model)", or "" without a DBH.
+/// below a swelling at 1.3)", " (fitted to the points at 1.1, where none fits at 1.3)", " (from the
+/// model)", or "" without a DBH.
 std::string dbh_note(const TreeMeasurements& m);
 
 /// Measures a skeleton whose radii are fitted. Branches follow the thickest child at every fork
