@@ -77,6 +77,12 @@ void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
   c.add_option("--cell-points", o.octree.points_per_cell,
                 "Mean points per octree cell that sets the depth (0: the paper's depth, 2 + log8 N)")
       ->default_val(o.octree.points_per_cell)->check(not_negative())->group(g);
+  c.add_option("--depth-steps", o.octree.depth_steps,
+                "Cell sizes between two octree depths: with --depth 0, the cube is also tried grown by 2^(k/N), "
+                "k < N, and the finest cell that holds --cell-points wins, so the cell does not jump by 2 with the "
+                "point count (docs/accuracy.md). Only for clouds of up to " +
+                    std::to_string(o.octree.depth_steps_max_points) + " points. 1: whole depths only")
+      ->default_val(o.octree.depth_steps)->check(in_range(1, 16))->group(g);
   c.add_option("--neighbours", s.neighbours, "Neighbour graph: 'octree' (26-adjacent cells) or 'knn' (k nearest skeleton points)")
       ->default_val("octree")->check(CLI::IsMember({"octree", "knn"}))->group(g);
   c.add_option("--reach", o.graph.reach, "With --neighbours octree: cells this many cells apart are neighbours (1: the paper's 26)")

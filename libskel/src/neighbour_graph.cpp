@@ -171,48 +171,93 @@ Adjacency concatenate(const std::vector<std::vector<std::uint32_t>>& blocks, con
   return adj;
 }
 
-Adjacency octree_adjacency(const OctreeCells& cells, int reach) {
-  const std::size_t n = cells.cell_count();
-  const KeyTable table(cells.keys);
-  const int side = 1 << cells.depth;
+/// Compressed rows for `n` cells, filled side by side in blocks of cells: `fill(c, row, scratch)`
+/// appends the neighbours of cell c to the empty `row` in ascending order; `scratch` is a `Scratch`
+/// kept per block of cells.
+template <class Scratch, class Fill>
+Adjacency rows_in_blocks(std::size_t n, Fill fill) {
   constexpr std::size_t block = 2048;
   std::vector<std::vector<std::uint32_t>> blocks((n + block - 1) / block);
   std::vector<std::uint32_t> counts(n, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& range) {
-    std::vector<std::uint64_t> along[3];  // per axis: the spread bits of each offset's coordinate (or none)
+    Scratch scratch;
     std::vector<std::uint32_t> row;
     for (std::size_t b = range.begin(); b != range.end(); ++b) {
       auto& out = blocks[b];
       for (std::size_t c = b * block; c < std::min(n, (b + 1) * block); ++c) {
-        const Eigen::Vector3i g = cells.coordinates(c);
-        for (int a = 0; a < 3; ++a) {
-          along[a].clear();
-          for (int d = -reach; d <= reach; ++d) {
-            const int x = g[a] + d;
-            const bool inside = x >= 0 && x < side;
-            const auto u = static_cast<std::uint32_t>(inside ? x : 0);
-            along[a].push_back(inside ? morton_encode(a == 0 ? u : 0, a == 1 ? u : 0, a == 2 ? u : 0) : kNoKey);
-          }
-        }
         row.clear();
-        const std::size_t width = along[0].size();
-        for (std::size_t k = 0; k < width; ++k)
-          for (std::size_t j = 0; j < width; ++j)
-            for (std::size_t i = 0; i < width; ++i) {
-              const std::uint64_t x = along[0][i], y = along[1][j], z = along[2][k];
-              if (x == kNoKey || y == kNoKey || z == kNoKey) continue;
-              const std::uint64_t key = x | y | z;
-              if (key == cells.keys[c]) continue;
-              const auto other = table.find(key);
-              if (other >= 0) row.push_back(static_cast<std::uint32_t>(other));
-            }
-        std::sort(row.begin(), row.end());
+        fill(c, row, scratch);
         counts[c] = static_cast<std::uint32_t>(row.size());
         out.insert(out.end(), row.begin(), row.end());
       }
     }
   });
   return concatenate(blocks, counts);
+}
+
+Adjacency octree_adjacency(const OctreeCells& cells, int reach) {
+  const KeyTable table(cells.keys);
+  const int side = 1 << cells.depth;
+  struct Along {
+    std::vector<std::uint64_t> axis[3];  // per axis: the spread bits of each offset's coordinate (or none)
+  };
+  return rows_in_blocks<Along>(cells.cell_count(), [&](std::size_t c, std::vector<std::uint32_t>& row, Along& along) {
+    const Eigen::Vector3i g = cells.coordinates(c);
+    for (int a = 0; a < 3; ++a) {
+      along.axis[a].clear();
+      for (int d = -reach; d <= reach; ++d) {
+        const int x = g[a] + d;
+        const bool inside = x >= 0 && x < side;
+        const auto u = static_cast<std::uint32_t>(inside ? x : 0);
+        along.axis[a].push_back(inside ? morton_encode(a == 0 ? u : 0, a == 1 ? u : 0, a == 2 ? u : 0) : kNoKey);
+      }
+    }
+    const std::size_t width = along.axis[0].size();
+    for (std::size_t k = 0; k < width; ++k)
+      for (std::size_t j = 0; j < width; ++j)
+        for (std::size_t i = 0; i < width; ++i) {
+          const std::uint64_t x = along.axis[0][i], y = along.axis[1][j], z = along.axis[2][k];
+          if (x == kNoKey || y == kNoKey || z == kNoKey) continue;
+          const std::uint64_t key = x | y | z;
+          if (key == cells.keys[c]) continue;
+          const auto other = table.find(key);
+          if (other >= 0) row.push_back(static_cast<std::uint32_t>(other));
+        }
+    std::sort(row.begin(), row.end());
+  });
+}
+
+/// `adj` with the cells where the points are sparse for the grid (on average fewer than `occupancy`
+/// points a cell over the cell and its neighbours in `adj`) also neighbours of such cells two cells
+/// apart along some axis (NeighbourGraphOptions::sparse_occupancy).
+Adjacency widen_sparse(const OctreeCells& cells, const Adjacency& adj, double occupancy) {
+  const std::size_t n = cells.cell_count();
+  std::vector<char> sparse(n, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t c = range.begin(); c != range.end(); ++c) {
+      std::size_t points = cells.point_count(c);
+      for (const std::uint32_t* o = adj.begin(c); o != adj.end(c); ++o) points += cells.point_count(*o);
+      sparse[c] = static_cast<double>(points) < occupancy * static_cast<double>(adj.end(c) - adj.begin(c) + 1);
+    }
+  });
+  const KeyTable table(cells.keys);
+  const int side = 1 << cells.depth;
+  struct None {};
+  return rows_in_blocks<None>(n, [&](std::size_t c, std::vector<std::uint32_t>& row, None&) {
+    row.assign(adj.begin(c), adj.end(c));
+    if (!sparse[c]) return;
+    const Eigen::Vector3i g = cells.coordinates(c);
+    for (int z = -2; z <= 2; ++z)
+      for (int y = -2; y <= 2; ++y)
+        for (int x = -2; x <= 2; ++x) {
+          if (std::max({std::abs(x), std::abs(y), std::abs(z)}) != 2) continue;
+          const Eigen::Vector3i h = g + Eigen::Vector3i(x, y, z);
+          if ((h.array() < 0).any() || (h.array() >= side).any()) continue;
+          const auto other = table.find(morton_encode(h.x(), h.y(), h.z()));
+          if (other >= 0 && sparse[static_cast<std::size_t>(other)]) row.push_back(static_cast<std::uint32_t>(other));
+        }
+    std::sort(row.begin(), row.end());
+  });
 }
 
 Adjacency knn_adjacency(const OctreeCells& cells, int k) {
@@ -319,9 +364,11 @@ CellGraph build_neighbour_graph(const OctreeCells& cells, const NeighbourGraphOp
   if (options.reach < 1 || options.reach > 3)
     throw OptionError("the octree neighbour reach must be 1, 2 or 3 cells, got " + std::to_string(options.reach));
   Adjacency adj = options.mode == NeighbourMode::knn ? knn_adjacency(cells, options.k) : octree_adjacency(cells, options.reach);
+  if (options.mode == NeighbourMode::octree && options.reach == 1 && cells.cube_scale > 1.0 && options.sparse_occupancy > 0.0)
+    adj = widen_sparse(cells, adj, options.sparse_occupancy);
   CellGraph graph;
   const double bridge = bridge_distance_for(options, cells);
-  const double far = options.far_bridge_distance == 0.0 ? 0.1 * cells.cube_size : std::max(options.far_bridge_distance, 0.0);
+  const double far = options.far_bridge_distance == 0.0 ? 0.1 * cells.cube_size / cells.cube_scale : std::max(options.far_bridge_distance, 0.0);
   const auto min_points = std::max(options.far_bridge_min_points,
                                    static_cast<std::size_t>(options.far_bridge_fraction * static_cast<double>(cells.point_order.size())));
   std::vector<std::pair<std::uint32_t, std::uint32_t>> links;

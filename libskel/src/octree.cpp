@@ -172,33 +172,86 @@ OctreeCells partition_octree(const PointCloud& cloud, const OctreeOptions& optio
   const std::size_t n = all ? cloud.size() : kept.size();
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
   const double resolution = static_cast<double>(1u << finest);
-  const double inv = resolution / cells.cube_size;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
-    for (std::size_t j = range.begin(); j != range.end(); ++j) {
-      const std::uint32_t i = all ? static_cast<std::uint32_t>(j) : kept[j];
-      const Eigen::Vector3d g = (cloud.positions[i] - cells.origin) * inv;
-      std::uint32_t c[3];
-      for (int a = 0; a < 3; ++a) c[a] = static_cast<std::uint32_t>(std::clamp(std::floor(g[a]), 0.0, resolution - 1.0));
-      keyed[j] = {morton_encode(c[0], c[1], c[2]), i};
-    }
-  });
-  sort_keyed(keyed, 3 * finest);  // keys with indices are unique: deterministic
-
   // For each point, the shallowest depth at which it lies in another cell than the point before it:
   // 21 - (its highest bit that differs) / 3, and 22 for a repeat (the same finest key), which no
   // depth tells apart. A cell at depth d starts at every point whose split is at most d.
   constexpr std::uint8_t kRepeat = finest + 1;
   std::vector<std::uint8_t> split(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      if (i == 0) {
-        split[i] = 0;
-        continue;
+  const auto sort_points = [&](double cube_size) {
+    const double inv = resolution / cube_size;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+      for (std::size_t j = range.begin(); j != range.end(); ++j) {
+        const std::uint32_t i = all ? static_cast<std::uint32_t>(j) : kept[j];
+        const Eigen::Vector3d g = (cloud.positions[i] - cells.origin) * inv;
+        std::uint32_t c[3];
+        for (int a = 0; a < 3; ++a) c[a] = static_cast<std::uint32_t>(std::clamp(std::floor(g[a]), 0.0, resolution - 1.0));
+        keyed[j] = {morton_encode(c[0], c[1], c[2]), i};
       }
-      const std::uint64_t differ = keyed[i].first ^ keyed[i - 1].first;
-      split[i] = differ == 0 ? kRepeat : static_cast<std::uint8_t>(finest - (63 - __builtin_clzll(differ)) / 3);
+    });
+    sort_keyed(keyed, 3 * finest);  // keys with indices are unique: deterministic
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        if (i == 0) {
+          split[i] = 0;
+          continue;
+        }
+        const std::uint64_t differ = keyed[i].first ^ keyed[i - 1].first;
+        split[i] = differ == 0 ? kRepeat : static_cast<std::uint8_t>(finest - (63 - __builtin_clzll(differ)) / 3);
+      }
+    });
+  };
+  // The deepest depth up to `deepest` at which the cell of a typical point (the point-weighted median
+  // of the cell counts) holds `points_per_cell`: unlike the mean, it ignores stray outliers that sit
+  // alone in their cells. It reaches the target exactly when fewer than half the points lie in cells
+  // below the target: counted per depth in one pass, with no list of cells to sort.
+  const auto dense_depth = [&](int deepest, std::size_t distinct) {
+    int depth = 1;
+    std::vector<std::size_t> below(static_cast<std::size_t>(deepest) + 1, 0);  // points in cells under the target, per depth
+    if (options.points_per_cell <= 1.0) {
+      // No cell holds fewer than one point.
+    } else if (options.points_per_cell <= 2.0) {
+      // Cells under the target hold one point: a point is alone in its cell from the depth at which
+      // both it and the next distinct point start a cell, so one pass counts every depth.
+      std::vector<std::size_t> alone_from(kRepeat + 1, 0);
+      std::size_t previous = n;  // the last distinct point seen
+      for (std::size_t i = 0; i < n; ++i) {
+        if (split[i] == kRepeat) continue;
+        if (previous != n) ++alone_from[std::max(split[previous], split[i])];
+        previous = i;
+      }
+      if (previous != n) ++alone_from[split[previous]];
+      std::size_t sum = 0;
+      for (int d = 0; d <= deepest; ++d) {
+        sum += alone_from[static_cast<std::size_t>(d)];
+        below[static_cast<std::size_t>(d)] = sum;
+      }
+    } else {
+      const auto sparse = [&](std::size_t run) { return static_cast<double>(run) < options.points_per_cell; };
+      for (int d = 1; d <= deepest; ++d) {
+        std::size_t run = 0;
+        auto& count = below[static_cast<std::size_t>(d)];
+        for (std::size_t i = 0; i < n; ++i) {
+          if (split[i] == kRepeat) continue;  // a repeated point
+          if (i > 0 && split[i] <= d) {
+            if (sparse(run)) count += run;
+            run = 0;
+          }
+          ++run;
+        }
+        if (sparse(run)) count += run;
+      }
     }
-  });
+    for (int d = 1; d <= deepest; ++d)
+      if (static_cast<double>(below[static_cast<std::size_t>(d)]) < 0.5 * static_cast<double>(distinct)) depth = d;
+    return depth;
+  };
+  if (options.depth > 0) {
+    if (!(options.cube_scale >= 1.0 && options.cube_scale <= 2.0))
+      throw OptionError("the octree's cube scale must be between 1 and 2, got " + std::to_string(options.cube_scale));
+    cells.cube_scale = options.cube_scale;
+    cells.cube_size *= options.cube_scale;
+  }
+  sort_points(cells.cube_size);
   if (options.depth > 0) {
     cells.depth = options.depth;
   } else {
@@ -207,49 +260,43 @@ OctreeCells partition_octree(const PointCloud& cloud, const OctreeOptions& optio
     const int paper = paper_octree_depth(distinct);
     cells.depth = paper;
     if (options.points_per_cell > 0.0) {
-      const int deepest = std::min(finest, paper + std::max(0, options.max_extra_depth));
-      // The population of the cell a typical point lies in (the point-weighted median of the cell
-      // counts): unlike the mean, it ignores stray outliers that sit alone in their cells. It reaches
-      // the target exactly when fewer than half the points lie in cells below the target: counted per
-      // depth in one pass, with no list of cells to sort.
-      cells.depth = 1;
-      std::vector<std::size_t> below(static_cast<std::size_t>(deepest) + 1, 0);  // points in cells under the target, per depth
-      if (options.points_per_cell <= 1.0) {
-        // No cell holds fewer than one point.
-      } else if (options.points_per_cell <= 2.0) {
-        // Cells under the target hold one point: a point is alone in its cell from the depth at which
-        // both it and the next distinct point start a cell, so one pass counts every depth.
-        std::vector<std::size_t> alone_from(kRepeat + 1, 0);
-        std::size_t previous = n;  // the last distinct point seen
-        for (std::size_t i = 0; i < n; ++i) {
-          if (split[i] == kRepeat) continue;
-          if (previous != n) ++alone_from[std::max(split[previous], split[i])];
-          previous = i;
-        }
-        if (previous != n) ++alone_from[split[previous]];
-        std::size_t sum = 0;
-        for (int d = 0; d <= deepest; ++d) {
-          sum += alone_from[static_cast<std::size_t>(d)];
-          below[static_cast<std::size_t>(d)] = sum;
-        }
-      } else {
-        const auto sparse = [&](std::size_t run) { return static_cast<double>(run) < options.points_per_cell; };
-        for (int d = 1; d <= deepest; ++d) {
-          std::size_t run = 0;
-          auto& count = below[static_cast<std::size_t>(d)];
-          for (std::size_t i = 0; i < n; ++i) {
-            if (split[i] == kRepeat) continue;  // a repeated point
-            if (i > 0 && split[i] <= d) {
-              if (sparse(run)) count += run;
-              run = 0;
-            }
-            ++run;
+      cells.depth = dense_depth(std::min(finest, paper + std::max(0, options.max_extra_depth)), distinct);
+      const int steps = distinct <= options.depth_steps_max_points ? options.depth_steps : 1;
+      if (steps > 1) {
+        // Cells of sizes between those of two depths: the cube grown by 2^(k / steps), whose depths
+        // may hold the target at a cell finer than the plain cube's. The finest cell wins, at most
+        // as fine as 2^-(2 + log8 N + max_extra_depth) of the plain cube (the depth cap, unrounded:
+        // at k = 0 it is the cap above).
+        const double limit = 2.0 + std::log2(static_cast<double>(std::max<std::size_t>(distinct, 2))) / 3.0 +
+                             std::max(0, options.max_extra_depth);
+        double best_cell = cells.cube_size / static_cast<double>(1u << cells.depth);
+        double best_scale = 1.0;
+        int best_depth = cells.depth;
+        const double plain = cells.cube_size;
+        double sorted = 1.0;  // the scale of the cube the keys are of
+        for (int k = 1; k < steps; ++k) {
+          const double grow = static_cast<double>(k) / steps;
+          // The scale as a 32-bit float holds it, so that one passed on through a float (MeshLab's
+          // parameters) pins the very same cube.
+          const double scale = static_cast<double>(static_cast<float>(std::exp2(grow)));
+          const int deepest = std::min(finest, static_cast<int>(std::floor(limit + grow + 1e-9)));
+          if (plain * scale / static_cast<double>(1u << deepest) >= best_cell) continue;  // cannot be finer
+          sort_points(plain * scale);
+          sorted = scale;
+          const int d = dense_depth(deepest, distinct);
+          const double cell = plain * scale / static_cast<double>(1u << d);
+          if (cell < best_cell) {
+            best_cell = cell;
+            best_scale = scale;
+            best_depth = d;
           }
-          if (sparse(run)) count += run;
         }
+        cells.depth = best_depth;
+        cells.cube_scale = best_scale;
+        cells.cube_size = plain * best_scale;
+        // The keys of the chosen cube (the last one sorted may be another).
+        if (sorted != best_scale) sort_points(cells.cube_size);
       }
-      for (int d = 1; d <= deepest; ++d)
-        if (2 * below[static_cast<std::size_t>(d)] < distinct) cells.depth = d;
     }
   }
   cells.cell_size = cells.cube_size / static_cast<double>(1u << cells.depth);

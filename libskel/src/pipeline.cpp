@@ -60,6 +60,7 @@ SkeletonOptions automatic_options(const PointCloud& cloud, const SkeletonOptions
   const OctreeCells cells = partition_octree(cloud, options.octree);  // the sizes need no medians
   SkeletonOptions o = options;
   o.octree.depth = cells.depth;
+  o.octree.cube_scale = cells.cube_scale;
   o.level_sets.band_width = band_width_for(options.level_sets, cells);
   o.prune.min_length = prune_length_for(options.prune, o.level_sets.band_width);
   o.graph.bridge_distance = bridge_distance_for(options.graph, cells);

@@ -234,7 +234,9 @@ ModelParams default_model_params() {
 bool resolve_scales(const std::vector<double>& xyz, SkeletonParams& params, std::string& error) {
   return guarded(error, [&] {
     const SkeletonOptions o = automatic_options(cloud_of(xyz), options_of(params));
+    const int depth = params.octree_depth;
     skeleton_fields(params, o, to_params);
+    params.octree_depth = depth;  // a cell size between two depths' is not a depth: 0 stays automatic
   });
 }
 

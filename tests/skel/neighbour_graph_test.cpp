@@ -157,6 +157,49 @@ TEST(NeighbourGraph, FarBridgingJoinsATwigPieceOfTenPointsButNotFewerStrayPoints
   EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 2u);
 }
 
+TEST(NeighbourGraph, SparseCellsOfAGrownCubeNeighbourCellsTwoApart) {
+  // Lines of cells one empty cell apart along x, on a cube grown by 1.25 (cells 1.25 wide at depth
+  // 4 over a cloud 16 wide): one point a cell (sparse: fewer than 2 on average) joins up; three
+  // points a cell (dense) stays apart, and so does the sparse line without the option.
+  const double cell = 1.25;
+  const auto line = [&](int y, int per_cell) {
+    PointCloud c;
+    for (int x = 1; x < 12; x += 2)
+      for (int i = 0; i < per_cell; ++i)
+        c.positions.emplace_back((x + 0.3 + 0.2 * i) * cell, (y + 0.5) * cell, 5.5 * cell);
+    c.positions.emplace_back(0.0, 0.0, 0.0);  // pins: the points' cube is [0, 16]
+    c.positions.emplace_back(16.0, 16.0, 16.0);
+    return c;
+  };
+  OctreeOptions grown;
+  grown.depth = 4;
+  grown.cube_scale = 1.25;
+  NeighbourGraphOptions g;
+  g.bridge_distance = -1.0;
+  const auto parts_of = [&](const PointCloud& cloud, const NeighbourGraphOptions& options, const OctreeOptions& octree) {
+    const OctreeCells cells = build_octree_cells(cloud, octree);
+    EXPECT_DOUBLE_EQ(cells.cell_size, cell);
+    std::uint32_t parts = 0;
+    connected_components(build_neighbour_graph(cells, options), &parts);
+    return parts;
+  };
+  EXPECT_EQ(parts_of(line(5, 1), g, grown), 3u);  // the line and the two pins
+  EXPECT_EQ(parts_of(line(5, 3), g, grown), 8u);  // six pieces and the pins
+  NeighbourGraphOptions off = g;
+  off.sparse_occupancy = 0.0;
+  EXPECT_EQ(parts_of(line(5, 1), off, grown), 8u);
+  // On the plain cube (whole depths) the grid is the density rule's own: no widening.
+  OctreeOptions plain;
+  plain.depth = 4;
+  PointCloud scaled = line(5, 1);
+  for (auto& p : scaled.positions) p *= 1.25;  // the same cells, 1.25 wide, on a plain cube of 20
+  const OctreeCells cells = build_octree_cells(scaled, plain);
+  ASSERT_DOUBLE_EQ(cells.cell_size, cell);
+  std::uint32_t parts = 0;
+  connected_components(build_neighbour_graph(cells, g), &parts);
+  EXPECT_EQ(parts, 8u);
+}
+
 TEST(NeighbourGraph, KnnGraphIsSymmetricWithAtLeastKNeighbours) {
   PointCloud cloud;
   for (int i = 0; i < 400; ++i) cloud.positions.emplace_back(std::cos(i * 0.1) * (1 + i * 0.01), std::sin(i * 0.1), i * 0.01);

@@ -51,18 +51,22 @@ TEST(Octree, DefaultDepthFollowsThePointDensity) {
   for (int i = 0; i < 20000; ++i) square.positions.emplace_back(u(rng), u(rng), 0.0);
   OctreeOptions three;
   three.points_per_cell = 3.0;
+  three.depth_steps = 1;  // whole depths (grown cubes: GrownCubesGiveTheFinestCellThatHoldsTheTarget)
   const OctreeCells cells = build_octree_cells(square, three);
   EXPECT_EQ(cells.depth, 6);  // 20000 / 4096 = 4.9 points a cell; depth 7 would give 1.2
   EXPECT_GE(20000.0 / cells.cell_count(), 2.5);
   // The default asks for 2: at depth 7 the cell of a typical point (the point-weighted median of the
   // cell populations) holds 2, though the mean is 1.2.
-  const OctreeCells fine = build_octree_cells(square, {});
+  OctreeOptions whole;
+  whole.depth_steps = 1;
+  const OctreeCells fine = build_octree_cells(square, whole);
   EXPECT_EQ(fine.depth, 7);
   EXPECT_GE(typical_population(fine), OctreeOptions{}.points_per_cell);
   OctreeOptions paper;
   paper.points_per_cell = 0.0;
   EXPECT_EQ(build_octree_cells(square, paper).depth, paper_octree_depth(20000));
   OctreeOptions capped;
+  capped.depth_steps = 1;
   capped.points_per_cell = 0.5;  // would go to depth 8 or more, but only 1 beyond the paper's 6
   EXPECT_EQ(build_octree_cells(square, capped).depth, 7);
 }
@@ -87,6 +91,7 @@ TEST(Octree, DefaultDepthIsTheDeepestWhereFewerThanHalfThePointsLieInSmallerCell
       OctreeOptions options;
       options.points_per_cell = target;
       options.max_extra_depth = 3;
+      options.depth_steps = 1;
       const int deepest = std::min(21, paper_octree_depth(n) + options.max_extra_depth);
       int expected = 1;
       for (int d = 1; d <= deepest; ++d) {
@@ -101,6 +106,65 @@ TEST(Octree, DefaultDepthIsTheDeepestWhereFewerThanHalfThePointsLieInSmallerCell
       EXPECT_EQ(partition_octree(cloud, options).depth, expected) << "trial " << trial << ", target " << target;
     }
   }
+}
+
+TEST(Octree, GrownCubesGiveTheFinestCellThatHoldsTheTarget) {
+  // The rule checked against cells built at every fixed depth and cube scale: a cube grown by
+  // 2^(k/4) at depth d has cells of 2^(k/4 - d) of the plain cube; the finest whose typical point's
+  // cell holds 2 points wins, under the cap 2 + log8 N + 1 levels taken unrounded.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const int count : {3000, 9000, 20000}) {
+    PointCloud cloud;  // a unit square with a denser strip: the typical cell is not the mean one
+    for (int i = 0; i < count; ++i) cloud.positions.emplace_back(u(rng), i % 3 == 0 ? 0.2 * u(rng) : u(rng), 0.0);
+    const OctreeOptions defaults;
+    ASSERT_EQ(defaults.depth_steps, 4);
+    const double limit = 2.0 + std::log2(static_cast<double>(count)) / 3.0 + defaults.max_extra_depth;
+    double expected = 2.0;  // the plain cube's side is 1
+    double expected_scale = 1.0;
+    for (int k = 0; k < 4; ++k)
+      for (int d = 1; d <= static_cast<int>(std::floor(limit + k / 4.0)); ++d) {
+        OctreeOptions fixed;
+        fixed.depth = d;
+        fixed.cube_scale = static_cast<float>(std::exp2(k / 4.0));  // as the octree rounds it
+        const OctreeCells cells = partition_octree(cloud, fixed);
+        const double cell = cells.cell_size;
+        if (typical_population(cells) >= defaults.points_per_cell && cell < expected) {
+          expected = cell;
+          expected_scale = fixed.cube_scale;
+        }
+      }
+    const OctreeCells chosen = build_octree_cells(cloud, defaults);
+    const double side = (bounding_box(cloud).sizes()).maxCoeff();
+    EXPECT_NEAR(chosen.cell_size / side, expected / side, 1e-12) << count << " points";
+    EXPECT_DOUBLE_EQ(chosen.cube_scale, expected_scale) << count << " points";
+    EXPECT_GE(typical_population(chosen), defaults.points_per_cell);
+    // Never coarser than the whole depths give.
+    OctreeOptions whole;
+    whole.depth_steps = 1;
+    const OctreeCells plain = partition_octree(cloud, whole);
+    EXPECT_LE(chosen.cell_size, plain.cell_size);
+    EXPECT_EQ(plain.cube_scale, 1.0);
+    // The depth and scale pinned give the very same cells (what automatic_options relies on).
+    OctreeOptions pinned;
+    pinned.depth = chosen.depth;
+    pinned.cube_scale = chosen.cube_scale;
+    const OctreeCells again = partition_octree(cloud, pinned);
+    EXPECT_EQ(again.keys, chosen.keys);
+    EXPECT_EQ(again.point_order, chosen.point_order);
+    // Above the point limit, whole depths only.
+    OctreeOptions limited;
+    limited.depth_steps_max_points = static_cast<std::size_t>(count) - 1;
+    EXPECT_EQ(partition_octree(cloud, limited).cell_size, plain.cell_size);
+  }
+  // At least one of the clouds takes a grown cube, or the test shows nothing.
+  PointCloud square;
+  for (int i = 0; i < 20000; ++i) square.positions.emplace_back(u(rng), u(rng), 0.0);
+  EXPECT_GT(partition_octree(square, {}).cube_scale, 1.0);
+  OctreeOptions wrong;
+  wrong.depth = 5;
+  wrong.cube_scale = 0.5;
+  EXPECT_THROW(partition_octree(square, wrong), OptionError);
 }
 
 TEST(Octree, EveryPointIsInExactlyOneCellThatContainsIt) {

@@ -22,6 +22,12 @@ struct NeighbourGraphOptions {
   /// In `octree` mode, cells up to this many cells apart along each axis are neighbours: 1 is the
   /// paper's 26-neighbourhood; 2 (124 neighbours) keeps sparsely sampled surfaces connected.
   int reach = 1;
+  /// On a grown cube (cells finer than a whole depth gives; OctreeOptions::depth_steps), cells whose
+  /// 3x3x3 neighbourhood holds on average fewer points a cell than this are also neighbours of such
+  /// cells two cells apart: where the points are sparse for the finer grid (a thick limb scanned
+  /// thinly), a band's ring holds together instead of falling into arcs that read as forks, while
+  /// dense parts keep the fine grid. 0: never.
+  double sparse_occupancy = 2.0;
   /// Parts of the graph whose closest skeleton points are at most this far apart are joined by an
   /// edge (occlusion gaps). 0 (default): 4 cell sizes. Negative: never bridge.
   double bridge_distance = 0.0;

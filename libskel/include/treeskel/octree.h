@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -27,6 +28,19 @@ struct OctreeOptions {
   /// 0: the paper's depth, ⌊2 + log8 N⌋.
   double points_per_cell = 2.0;
   int max_extra_depth = 1;
+  /// With depth 0, also try the cube grown by 2^(k / depth_steps), k = 1 .. depth_steps - 1, whose
+  /// depths give cell sizes between two of the plain cube's; the finest cell that holds
+  /// `points_per_cell` wins, under the depth cap taken unrounded (2 + log8 N + max_extra_depth
+  /// levels). The whole depths alone make the cell jump by 2 with the point count (a crowded crown of
+  /// 23k points got cells twice those of one of 46k, and half its forks): finer cells resolve close
+  /// forks (docs/accuracy.md). 1: whole depths only.
+  int depth_steps = 4;
+  /// The grown cubes are tried for clouds of at most this many distinct points. Denser clouds already
+  /// have cells far finer than their branches, and there the finer grid cost 40-55% more time.
+  std::size_t depth_steps_max_points = 250000;
+  /// With depth > 0: the cube is the points' bounding cube grown by this factor, in [1, 2] (what
+  /// `automatic_options` pins beside the depth it chose).
+  double cube_scale = 1.0;
   /// Points farther than this many times the extent of the cloud's bulk outside it are left out of
   /// the octree (and of the skeleton, as noise), so that one stray point cannot coarsen the grid.
   /// The bulk: per axis, the range between the 0.1% and 99.9% quantiles. 0 keeps every point.
@@ -38,6 +52,7 @@ struct OctreeOptions {
 struct OctreeCells {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< minimum corner of the bounding cube
   double cube_size = 0.0;                            ///< side of the bounding cube
+  double cube_scale = 1.0;                           ///< cube_size over the points' bounding cube's side (> 1: a grown cube)
   int depth = 0;                                     ///< subdivision depth
   double cell_size = 0.0;                            ///< side of a leaf cell: cube_size / 2^depth
   std::vector<std::uint64_t> keys;                   ///< Morton key per cell, strictly increasing
