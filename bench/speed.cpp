@@ -1,6 +1,9 @@
 // Speed and peak memory of reading a cloud and extracting its skeleton.
 //
-//   bench_speed [--synthetic N,N,...] [--dense N,N,...] [--noise S] [--keep DIR] [--repeat R] [--threads T] [FILE...]
+//   bench_speed [--synthetic N,N,...] [--dense N,N,...] [--noise S] [--keep DIR] [--repeat R] [--threads T]
+//               [--depth-steps N] [FILE...]
+//
+// --depth-steps sets OctreeOptions::depth_steps (1: whole octree depths only), to compare.
 //
 // Synthetic clouds are random trees (eval::grow_tree) sampled with N points (Gaussian noise of
 // standard deviation S along the bark's normal, 2 mm by default) and written as binary
@@ -42,7 +45,7 @@ namespace {
 
 double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
-std::string measure(const std::string& path, int repeat) {
+std::string measure(const std::string& path, int repeat, const SkeletonOptions& options) {
   const double t0 = now();
   const PointCloud cloud = io::read_point_cloud(path);
   const double read = now() - t0;
@@ -51,7 +54,7 @@ std::string measure(const std::string& path, int repeat) {
   Skeleton skeleton;
   for (int r = 0; r < repeat; ++r) {
     const double t1 = now();
-    skeleton = extract_skeleton(cloud, {}, &stats);
+    skeleton = extract_skeleton(cloud, options, &stats);
     const double took = now() - t1;
     if (r == 0) first = took;
     best = std::min(best, took);
@@ -82,6 +85,7 @@ int main(int argc, char** argv) {
   unsigned threads = 0;
   double noise = 0.002;
   std::string keep;
+  SkeletonOptions options;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if ((a == "--synthetic" || a == "--dense") && i + 1 < argc) {
@@ -93,10 +97,12 @@ int main(int argc, char** argv) {
       keep = argv[++i];
     } else if (a == "--repeat" && i + 1 < argc) {
       repeat = std::max(1, std::atoi(argv[++i]));
+    } else if (a == "--depth-steps" && i + 1 < argc) {
+      options.octree.depth_steps = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--threads" && i + 1 < argc) {
       threads = static_cast<unsigned>(std::atoi(argv[++i]));
     } else if (a == "--help" || a == "-h") {
-      std::cout << "usage: bench_speed [--synthetic N,N,...] [--dense N,N,...] [--noise S] [--keep DIR] [--repeat R] [--threads T] [FILE...]\n";
+      std::cout << "usage: bench_speed [--synthetic N,N,...] [--dense N,N,...] [--noise S] [--keep DIR] [--repeat R] [--threads T] [--depth-steps N] [FILE...]\n";
       return 0;
     } else {
       files.push_back(a);
@@ -153,7 +159,7 @@ int main(int argc, char** argv) {
       ::close(pipe_fd[0]);
       std::string line;
       try {
-        line = measure(path, repeat);
+        line = measure(path, repeat, options);
       } catch (const std::exception& e) {
         line = nlohmann::json{{"error", e.what()}}.dump();
       }
