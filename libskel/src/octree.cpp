@@ -242,7 +242,7 @@ OctreeCells partition_octree(const PointCloud& cloud, const OctreeOptions& optio
       }
     }
     for (int d = 1; d <= deepest; ++d)
-      if (static_cast<double>(below[static_cast<std::size_t>(d)]) < 0.5 * static_cast<double>(distinct)) depth = d;
+      if (2 * below[static_cast<std::size_t>(d)] < distinct) depth = d;
     return depth;
   };
   if (options.depth > 0) {
