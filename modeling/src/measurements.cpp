@@ -202,26 +202,24 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
     m.dbh_source = DbhSource::model;
     m.dbh_height = options.breast_height;
     if (cloud && options.dbh_from_points) {
-      if (const auto measured = slice_at(options.breast_height); !measured) {
-        // No reliable circle at breast height (a fork there, or the slice spans a limb): the slice
-        // just under it, as foresters measure a stem that forks at breast height.
-        if (const auto under = slice_at(options.breast_height - 2.0 * half)) {
-          m.dbh = *under;
-          m.dbh_source = DbhSource::points;
-          m.dbh_height = options.breast_height - 2.0 * half;
-          m.dbh_unfit_at_breast_height = true;
-        }
-      } else {
+      // The slice under the breast-height one: where the stem swells at breast height (more than
+      // kSwelling thicker than just below: a fork, a branch, a burl; a healthy stem narrows upward)
+      // or no reliable circle fits there (a fork, or the slice spans a limb), the diameter is taken
+      // there, as foresters measure.
+      const double lower = options.breast_height - 2.0 * half;
+      const auto measured = slice_at(options.breast_height), under = slice_at(lower);
+      if (measured) {
         m.dbh = *measured;
         m.dbh_source = DbhSource::points;
-        // A stem that is more than kSwelling thicker at breast height than just below it swells
-        // there (a fork, a branch, a burl; a healthy stem narrows upward): the diameter is then
-        // taken just below, in the slice under the breast-height one.
-        const double lower = options.breast_height - 2.0 * half;
-        if (const auto under = slice_at(lower); under && *measured > kSwelling * *under) {
+        if (under && *measured > kSwelling * *under) {
           m.dbh = *under;
           m.dbh_height = lower;
         }
+      } else if (under) {
+        m.dbh = *under;
+        m.dbh_source = DbhSource::points;
+        m.dbh_height = lower;
+        m.dbh_unfit_at_breast_height = true;
       }
     }
   }
