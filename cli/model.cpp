@@ -118,6 +118,7 @@ int run(Settings& s) {
   } catch (const InputError& e) {
     throw InputError(s.input + ": " + e.what());
   }
+  const double radii_seconds = clock.seconds() - skeleton_seconds;
   progress("sweeping the mesh", 0.72);
   modeling::SweepStats sweep_stats;
   modeling::TreeMesh mesh;
@@ -128,6 +129,7 @@ int run(Settings& s) {
   } catch (const InputError& e) {
     throw InputError(s.input + ": " + e.what());
   }
+  const double mesh_seconds = clock.seconds() - skeleton_seconds - radii_seconds;
   progress("checking the mesh", 0.9);
   // The checks and the share of the skeleton inside read the mesh side by side (each is mostly one
   // core's work).
@@ -135,6 +137,7 @@ int run(Settings& s) {
   modeling::SkeletonCoverage coverage;
   tbb::parallel_invoke([&] { check = check_swept(mesh, sweep_stats, s.sweep.repair); },
                        [&] { coverage = modeling::skeleton_coverage(skeleton, mesh); });
+  const double check_seconds = clock.seconds() - skeleton_seconds - radii_seconds - mesh_seconds;
   // Several closed components (a limb swept apart that its union did not reach) are written with a
   // warning: leaving them out would lose the limbs. Every warning goes to stderr and into the report.
   if (!check.ok() && !only_apart(check) && !s.allow_defects)
@@ -235,7 +238,14 @@ int run(Settings& s) {
                 {"y_up_rotation", placed.y_up_rotation},
                 {"note", placed.note}};
   j["warnings"] = warnings;
-  j["seconds"] = {{"skeleton", skeleton_seconds}, {"total", seconds}};
+  // Where the time went: reading and the skeleton, the radii, the mesh (sweep and unions), its
+  // checks and the share of the skeleton inside, then measurements and writing; they add up to total.
+  j["seconds"] = {{"skeleton", skeleton_seconds},
+                  {"radii", radii_seconds},
+                  {"mesh", mesh_seconds},
+                  {"checks", check_seconds},
+                  {"measure_and_write", seconds - skeleton_seconds - radii_seconds - mesh_seconds - check_seconds},
+                  {"total", seconds}};
   j["peak_memory_mb"] = peak_memory_mb();
   if (view_outputs.wanted()) {
     progress("writing the page", 0.97);

@@ -186,6 +186,15 @@ TEST(Cli, ModelTurnsTheExampleIntoAGlbWithReportAndQsm) {
   EXPECT_GT(j["measurements"]["dbh"].get<double>(), 0.0);  // the rTwig tree is 3.7 m tall
   EXPECT_EQ(j["measurements"]["dbh_source"], "points");   // a circle fitted at breast height
   EXPECT_GT(j["measurements"]["height"].get<double>(), 3.0);
+  // Where the time went: the stages, none negative, add up to the total.
+  double stages = 0.0;
+  for (const char* stage : {"skeleton", "radii", "mesh", "checks", "measure_and_write"}) {
+    ASSERT_TRUE(j["seconds"].contains(stage)) << stage;
+    EXPECT_GE(j["seconds"][stage].get<double>(), 0.0) << stage;
+    stages += j["seconds"][stage].get<double>();
+  }
+  EXPECT_NEAR(stages, j["seconds"]["total"].get<double>(), 1e-9);
+  EXPECT_GT(j["seconds"]["mesh"].get<double>(), 0.0);
   std::ifstream csv(dir.path("qsm.csv"));
   std::string header;
   std::getline(csv, header);
