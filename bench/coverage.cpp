@@ -1,6 +1,6 @@
 // How much of a real cloud a tree model shows, as a person judging it over its scan would see it:
 //
-//   bench_coverage [--up z] [--truth SKELETON] [--check] [--frame MODELLED] [--precision] CLOUD MESH
+//   bench_coverage [--up z] [--truth SKELETON] [--check] [--frame MODELLED] [--precision] [--missed OUT.xyz] CLOUD MESH
 //
 // CLOUD is read as treeskel reads it (its local frame), MESH as a viewer reads it (assimp); write
 // the mesh with `treeskel model CLOUD --local -o MESH.ply` so that both are in the same frame. With
@@ -15,7 +15,9 @@
 // vertex (a file that is not is refused with the face that breaks it), its components and its
 // self-intersections, the whole mesh tested exactly. With --precision, also the share of the mesh's
 // vertices within 1% and 2% of the height from CLOUD's nearest point: how little of the model lies
-// where the cloud has no points (in the leaves, when CLOUD is a tree's true wood).
+// where the cloud has no points (in the leaves, when CLOUD is a tree's true wood). With --missed, the
+// points farther than 2% of the height from the surface are written to OUT.xyz (in CLOUD's local
+// frame, x y z and the distance), to look at beside the mesh.
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/io/skeleton_io.h"
@@ -26,6 +28,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 
 using namespace treeskel;
@@ -33,7 +36,7 @@ using namespace treeskel;
 int main(int argc, char** argv) {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   std::vector<std::string> files;
-  std::string truth_file, frame_file;
+  std::string truth_file, frame_file, missed_file;
   bool check_file = false, precision = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -46,6 +49,8 @@ int main(int argc, char** argv) {
       check_file = true;
     } else if (a == "--frame" && i + 1 < argc) {
       frame_file = argv[++i];
+    } else if (a == "--missed" && i + 1 < argc) {
+      missed_file = argv[++i];
     } else if (a == "--precision") {
       precision = true;
     } else {
@@ -53,7 +58,7 @@ int main(int argc, char** argv) {
     }
   }
   if (files.size() != 2) {
-    std::cerr << "usage: bench_coverage [--up x|y|z] [--truth SKELETON] [--check] [--frame MODELLED] [--precision] CLOUD MESH\n";
+    std::cerr << "usage: bench_coverage [--up x|y|z] [--truth SKELETON] [--check] [--frame MODELLED] [--precision] [--missed OUT.xyz] CLOUD MESH\n";
     return 2;
   }
   try {
@@ -79,6 +84,15 @@ int main(int argc, char** argv) {
     std::printf("%zu points, height %.3f: within 1%% %.3f, within 2%% %.3f, reach %.3f\n", cloud.size(), height,
                 modeling::share_within(d, 0.01 * height), modeling::share_within(d, 0.02 * height),
                 (mesh_hi - mesh_lo) / height);
+    if (!missed_file.empty()) {
+      std::FILE* out = std::fopen(missed_file.c_str(), "w");
+      if (out == nullptr) throw std::runtime_error("cannot write " + missed_file);
+      for (std::size_t i = 0; i < d.size(); ++i) {
+        const auto& p = cloud.positions[i];
+        if (d[i] > 0.02 * height) std::fprintf(out, "%.4f %.4f %.4f %.4f\n", p.x(), p.y(), p.z(), d[i]);
+      }
+      if (std::fclose(out) != 0) throw std::runtime_error("cannot write " + missed_file);
+    }
     if (precision) {
       std::vector<kd::Point> points;
       points.reserve(cloud.size());
