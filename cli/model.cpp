@@ -118,7 +118,7 @@ int run(Settings& s) {
   } catch (const InputError& e) {
     throw InputError(s.input + ": " + e.what());
   }
-  const double radii_seconds = clock.seconds() - skeleton_seconds;
+  const double radii_done = clock.seconds();
   progress("sweeping the mesh", 0.72);
   modeling::SweepStats sweep_stats;
   modeling::TreeMesh mesh;
@@ -129,7 +129,7 @@ int run(Settings& s) {
   } catch (const InputError& e) {
     throw InputError(s.input + ": " + e.what());
   }
-  const double mesh_seconds = clock.seconds() - skeleton_seconds - radii_seconds;
+  const double mesh_done = clock.seconds();
   progress("checking the mesh", 0.9);
   // The checks and the share of the skeleton inside read the mesh side by side (each is mostly one
   // core's work).
@@ -137,7 +137,7 @@ int run(Settings& s) {
   modeling::SkeletonCoverage coverage;
   tbb::parallel_invoke([&] { check = check_swept(mesh, sweep_stats, s.sweep.repair); },
                        [&] { coverage = modeling::skeleton_coverage(skeleton, mesh); });
-  const double check_seconds = clock.seconds() - skeleton_seconds - radii_seconds - mesh_seconds;
+  const double checks_done = clock.seconds();
   // Several closed components (a limb swept apart that its union did not reach) are written with a
   // warning: leaving them out would lose the limbs. Every warning goes to stderr and into the report.
   if (!check.ok() && !only_apart(check) && !s.allow_defects)
@@ -241,10 +241,10 @@ int run(Settings& s) {
   // Where the time went: reading and the skeleton, the radii, the mesh (sweep and unions), its
   // checks and the share of the skeleton inside, then measurements and writing; they add up to total.
   j["seconds"] = {{"skeleton", skeleton_seconds},
-                  {"radii", radii_seconds},
-                  {"mesh", mesh_seconds},
-                  {"checks", check_seconds},
-                  {"measure_and_write", seconds - skeleton_seconds - radii_seconds - mesh_seconds - check_seconds},
+                  {"radii", radii_done - skeleton_seconds},
+                  {"mesh", mesh_done - radii_done},
+                  {"checks", checks_done - mesh_done},
+                  {"measure_and_write", seconds - checks_done},
                   {"total", seconds}};
   j["peak_memory_mb"] = peak_memory_mb();
   if (view_outputs.wanted()) {
