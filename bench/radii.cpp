@@ -167,8 +167,9 @@ int main(int argc, char** argv) {
     else if (a == "--pypetree" && i + 1 < argc) pypetree = argv[++i];
     else if (a == "--archi" && i + 1 < argc) archi = argv[++i];
     else if (a == "--exponent" && i + 1 < argc) radius_options.exponent = std::stod(argv[++i]);
+    else if (a == "--stem-share-bound" && i + 1 < argc) radius_options.max_share_over_pipe = std::stod(argv[++i]);
     else {
-      std::cout << "usage: bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E]\n";
+      std::cout << "usage: bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E] [--stem-share-bound K]\n";
       return a == "-h" || a == "--help" ? 0 : 2;
     }
   }

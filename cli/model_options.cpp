@@ -20,10 +20,9 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
       ->default_val(r.tip_weight)->check(positive())->group(g);
   c.add_option("--stem-share-bound", r.max_share_over_pipe,
                "At each fork on the stem, let no branch take more than K times the share of the stem's cross "
-               "section that the pipe model gives it (0: off, else at least 1). For conifers, where circle fits take "
-               "in the needles around the branches of a whorl and the stem above comes out too thin: 4 gave "
-               "TreeLS's pine a stem twice as thick, close to its points. Off by default: it made one "
-               "broadleaved tree's mesh 160x slower to build (docs/models.md)")
+               "section that the pipe model gives it (0: off, else at least 1). Circle fits around a side branch "
+               "that take in needles, leaves or scattered points come out as wide as the stem; unbounded, the stem "
+               "above such forks thins far faster than its points (docs/models.md)")
       ->default_val(r.max_share_over_pipe)->check(off_or_at_least(1.0))->group(g);
   c.add_option("--fit-points", r.min_points, "Fewest points of a node for its radius to be measured by a circle fit")
       ->default_val(r.min_points)->check(in_range(3, 100000))->group(g);

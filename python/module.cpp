@@ -463,9 +463,9 @@ PYBIND11_MODULE(_treeskel, m) {
   }, py::arg("skeleton"),
         "A copy of the skeleton with radii by the pipe model, fitted to its cloud's points where it has "
         "one; keyword arguments: exponent, tip_weight, fit_points, complete (grow branches through the "
-        "points the fitted tubes pass by, as `treeskel model --complete`), stem_share_bound (for conifers: "
-        "at the stem's forks no branch takes more than that many times its pipe-model share, as "
-        "`treeskel model --stem-share-bound`)");
+        "points the fitted tubes pass by, as `treeskel model --complete`), stem_share_bound (at the stem's "
+        "forks no branch takes more than that many times its pipe-model share; 4 by default, 0 for none, "
+        "as `treeskel model --stem-share-bound`)");
 
   m.def("tree_mesh", [](const std::shared_ptr<PySkeleton>& s, const py::kwargs& kwargs) {
     const Options o = parse_options(kwargs, false, true, "tree_mesh");

@@ -258,22 +258,25 @@ TEST(Cli, ModelCompleteGrowsBranchesThroughThePointsItPassedBy) {
   EXPECT_NE(saved.out.find("--complete needs the cloud's points"), std::string::npos) << saved.out;
 }
 
-// --stem-share-bound reaches the radii (and the report); a bound under 1 is refused by name.
-TEST(Cli, ModelBoundsTheStemsSharesWhenAsked) {
+// The stem's shares are bounded by default (4, in the report); --stem-share-bound 0 turns the bound
+// off and changes the radii; a bound under 1 is refused by name.
+TEST(Cli, ModelBoundsTheStemsSharesUnlessTurnedOff) {
   test::TempDir dir;
   const std::string cloud = test::data_file("tree_adtree1.xyz");
-  const Result r = run("model " + cloud + " --stem-share-bound 4 -o tree.ply --report report.json", dir.root());
+  const Result r = run("model " + cloud + " --stem-share-bound 0 -o tree.ply --report report.json", dir.root());
   ASSERT_EQ(r.code, 0) << r.out;
   std::ifstream in(dir.path("report.json"));
   const auto j = nlohmann::json::parse(in);
-  EXPECT_EQ(j["radii"]["stem_share_bound"].get<double>(), 4.0);
+  EXPECT_EQ(j["radii"]["stem_share_bound"].get<double>(), 0.0);
   EXPECT_TRUE(j["mesh"]["closed"].get<bool>());
   EXPECT_EQ(j["mesh"]["self_intersections"].get<int>(), 0);
   const modeling::MeshCheck check = modeling::check_mesh(io::read_mesh(dir.path("tree.ply")), true);
   EXPECT_TRUE(check.ok()) << check.problem();
   const Result plain = run("model " + cloud + " -o plain.ply --json", dir.root());
   ASSERT_EQ(plain.code, 0) << plain.out;
-  EXPECT_EQ(nlohmann::json::parse(plain.out)["radii"]["stem_share_bound"].get<double>(), 0.0);
+  const auto bounded = nlohmann::json::parse(plain.out);
+  EXPECT_EQ(bounded["radii"]["stem_share_bound"].get<double>(), 4.0);
+  EXPECT_NE(bounded["mesh"]["volume"].get<double>(), j["mesh"]["volume"].get<double>());
   for (const std::string bad : {"0.5", "inf", "4x"}) {
     const Result refused = run("model " + cloud + " --stem-share-bound " + bad + " -o bad.ply", dir.root());
     EXPECT_EQ(refused.code, 2) << bad << ": " << refused.out;

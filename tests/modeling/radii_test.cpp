@@ -224,9 +224,11 @@ TEST(FitRadii, AStubThatMeasuresItsParentDoesNotStarveIt) {
   ASSERT_EQ(validate(s, cloud.size()), "");
   const NodeId above = 11;  // the trunk's first node above the fork
   Skeleton unbounded = s;
-  fit_radii(unbounded, &cloud);  // unbounded by default
+  RadiusOptions off;
+  off.max_share_over_pipe = 0.0;
+  fit_radii(unbounded, &cloud, off);
   RadiusOptions bound;
-  bound.max_share_over_pipe = 4.0;
+  ASSERT_EQ(bound.max_share_over_pipe, 4.0);  // the default
   fit_radii(s, &cloud, bound);
   expect_pipe_model(s, 2.0);
   expect_pipe_model(unbounded, 2.0);

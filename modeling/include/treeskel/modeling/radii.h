@@ -53,13 +53,14 @@ struct RadiusOptions {
   /// child's measured start may claim at most this many times the share of the fork's cross
   /// section that the pipe model gives it (what it carries over what all the children carry).
   /// Circle fits around a conifer's side branches take in the needles and come out as wide as the
-  /// stem; unbounded, such branches, carrying 0.3-5% of the length, took 15-50% of the stem at
-  /// their forks, and TreeLS's pine was modelled with a stem 0.4 times as thick as its points, the
-  /// spruce with almost none (docs/models.md). Bounded at every fork, the crowns of broadleaved trees
-  /// grew thicker than their reference models. 0 (the default) leaves the shares unbounded: at 4,
-  /// one of AdTree's broadleaved trees took 160 times as long to mesh (docs/models.md). Only with a
-  /// cloud: a skeleton's stored radii are taken as they are. `treeskel model --stem-share-bound`.
-  double max_share_over_pipe = 0.0;
+  /// stem, and so do fits of small branches whose few points scatter; unbounded, such branches,
+  /// carrying 0.3-5% of the length, took 15-50% of the stem at their forks: TreeLS's pine was
+  /// modelled with a stem 0.4 times as thick as its points, LPine1's pines with none above half
+  /// their height, plantscan3d's A3B4 with a stem that thinned to nothing by 3 m (docs/models.md).
+  /// Bounded at every fork, not the stem's alone, the crowns of broadleaved trees grew thicker than
+  /// their reference models. 0 leaves the shares unbounded. Only with a cloud: a skeleton's stored
+  /// radii are taken as they are. `treeskel model --stem-share-bound`.
+  double max_share_over_pipe = 4.0;
   /// After fitting, grow branches through the points that the fitted tubes leave more than a margin
   /// outside (`complete_skeleton`), then fit again: a model that reaches the parts of a crowded or
   /// sparse crown the skeleton passes by. Needs the cloud and `cell_size`.
