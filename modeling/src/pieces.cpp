@@ -324,32 +324,38 @@ class Uniter {
     return unite(unite(base, std::move(near)), std::move(clear));
   }
 
-  /// Moves the smallest of `pieces` with faces at `spots` (the least moved so far) by `kNudge` of the
-  /// extent, in a direction of its own for each try; false if none is there, it was moved
-  /// `kMaxNudges` times already, or it would cross itself moved. Moving every piece at the spots
-  /// would leave two that cross each other as they were. (In a pine of the LPine1 plot one move
-  /// cleared what splitting took 28 corefinements of the whole tree to leave a 1 cm stub out of.)
+  /// Moves every one of `pieces` with faces at `spots` by `kNudge` of the extent, each in a direction
+  /// of its own (and another on its next move), so that two of them that cross each other there move
+  /// apart as well as each from the rest; false if none there could move (each moves at most
+  /// `kMaxNudges` times, and not where it would cross itself). Moving only the smallest one there took
+  /// as many unions of the whole tree as there were pieces to try: four on AdTree's
+  /// Paris_Luxembourg_1, whose crossing spots touched two pieces. (In a pine of the LPine1 plot one
+  /// move cleared what splitting took 28 corefinements of the whole tree to leave a 1 cm stub out of.)
   bool nudge(std::vector<Piece>& pieces, const std::vector<Box>& spots) {
-    Piece* chosen = nullptr;
-    for (auto& p : pieces) {
-      const bool at = !faces_touching(p.mesh, spots).empty();
-      if (at && (!chosen || std::make_pair(p.nudges, p.mesh.n_faces()) < std::make_pair(chosen->nudges, chosen->mesh.n_faces())))
-        chosen = &p;
-    }
-    if (!chosen || chosen->nudges >= kMaxNudges) return false;
-    static constexpr double kWays[kMaxNudges][3] = {{0.5345, 0.2673, 0.8018}, {-0.7071, 0.5774, -0.4082}};
+    // Unit directions far from each other and from the axes (along which the pieces' rings lie).
+    static constexpr double kWays[][3] = {{0.5345, 0.2673, 0.8018},  {-0.7071, 0.5774, -0.4082}, {0.2673, -0.8018, 0.5345},
+                                          {-0.4082, -0.7071, 0.5774}, {0.8018, 0.5345, -0.2673},  {-0.5774, 0.4082, 0.7071}};
+    constexpr std::size_t kWayCount = sizeof(kWays) / sizeof(kWays[0]);
     const double step = kNudge * extent_;
-    TreeMesh moved = chosen->mesh;
-    for (auto v : moved.vertices()) {
-      auto q = moved.point(v);
-      for (int a = 0; a < 3; ++a) q[a] += step * kWays[chosen->nudges][a];
-      moved.set_point(v, q);
+    bool any = false;
+    std::size_t k = 0;  // the pieces at the spots so far
+    for (auto& p : pieces) {
+      if (faces_touching(p.mesh, spots).empty()) continue;
+      const std::size_t way = (k++ * kMaxNudges + static_cast<std::size_t>(p.nudges)) % kWayCount;
+      if (p.nudges >= kMaxNudges) continue;
+      TreeMesh moved = p.mesh;
+      for (auto v : moved.vertices()) {
+        auto q = moved.point(v);
+        for (int a = 0; a < 3; ++a) q[a] += step * kWays[way][a];
+        moved.set_point(v, q);
+      }
+      if (!self_intersecting_faces_at(moved, world_floats(moved, frame_)).empty()) continue;
+      p.mesh = std::move(moved);
+      ++p.nudges;
+      ++st_.pieces_nudged;
+      any = true;
     }
-    if (!self_intersecting_faces_at(moved, world_floats(moved, frame_)).empty()) return false;
-    chosen->mesh = std::move(moved);
-    ++chosen->nudges;
-    ++st_.pieces_nudged;
-    return true;
+    return any;
   }
 
   /// `base` with `piece`, whose union with it crossed itself at `spots`, split until the part at
