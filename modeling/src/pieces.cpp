@@ -324,9 +324,9 @@ class Uniter {
     return unite(unite(base, std::move(near)), std::move(clear));
   }
 
-  /// Moves every one of `pieces` with faces at `spots` by `kNudge` of the extent, each in a direction
-  /// of its own (and another on its next move), so that two of them that cross each other there move
-  /// apart as well as each from the rest; false if none there could move (each moves at most
+  /// Moves every one of `pieces` with faces at `spots` by `kNudge` of the extent, the pieces there
+  /// taking six directions in turn (two each: one per move), so that two of them that cross each other
+  /// there move apart as well as each from the rest; false if none there could move (each moves at most
   /// `kMaxNudges` times, and not where it would cross itself). Moving only the smallest one there took
   /// as many unions of the whole tree as there were pieces to try: four on AdTree's
   /// Paris_Luxembourg_1, whose crossing spots touched two pieces. (In a pine of the LPine1 plot one
