@@ -1,6 +1,7 @@
 // How much of a real cloud a tree model shows, as a person judging it over its scan would see it:
 //
-//   bench_coverage [--up z] [--truth SKELETON] [--check] [--frame MODELLED] [--precision] [--missed OUT.xyz] CLOUD MESH
+//   bench_coverage [--up z] [--truth SKELETON] [--skeleton SKELETON] [--check] [--frame MODELLED] [--precision]
+//                  [--missed OUT.xyz] CLOUD MESH
 //
 // CLOUD is read as treeskel reads it (its local frame), MESH as a viewer reads it (assimp); write
 // the mesh with `treeskel model CLOUD --local -o MESH.ply` so that both are in the same frame. With
@@ -17,26 +18,71 @@
 // vertices within 1% and 2% of the height from CLOUD's nearest point: how little of the model lies
 // where the cloud has no points (in the leaves, when CLOUD is a tree's true wood). With --missed, the
 // points farther than 2% of the height from the surface are written to OUT.xyz (in CLOUD's local
-// frame, x y z and the distance), to look at beside the mesh.
+// frame, x y z and the distance), to look at beside the mesh. With --skeleton (the skeleton the mesh
+// was swept along, as `treeskel model --skeleton` writes it), also the share of the cloud's points
+// within 1% and 2% of the height from the skeleton's axis (exact point-to-segment distances), and of
+// the points farther than 2% from the mesh, the share within 2% of the skeleton: what the mesh lost of
+// what the skeleton reached. A point the skeleton does not come near is the skeleton's loss, not the
+// mesh's.
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/io/skeleton_io.h"
+#include "treeskel/geometry.h"
 #include "treeskel/kd_search.h"
 #include "treeskel/modeling/coverage.h"
 
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <iostream>
 #include <stdexcept>
 #include <string>
 
 using namespace treeskel;
 
+namespace {
+
+/// Per point, its distance to the nearest edge of `skeleton`. The edges are sampled every `spacing`
+/// and the edges of a point's eight nearest samples are measured exactly; the nearest edge's nearest
+/// sample lies within half a spacing of it, so an edge missed that way is at most that much nearer.
+std::vector<double> axis_distances(const Skeleton& skeleton, const std::vector<Eigen::Vector3d>& points, double spacing) {
+  std::vector<kd::Point> samples;
+  std::vector<std::pair<NodeId, NodeId>> edge_of;
+  for (auto [e, end] = boost::edges(skeleton.graph); e != end; ++e) {
+    const NodeId a = boost::source(*e, skeleton.graph), b = boost::target(*e, skeleton.graph);
+    const Eigen::Vector3d pa = skeleton[a].position, pb = skeleton[b].position;
+    const int steps = std::max(1, static_cast<int>(std::ceil((pb - pa).norm() / spacing)));
+    for (int k = 0; k <= steps; ++k) {
+      const Eigen::Vector3d q = pa + (pb - pa) * (static_cast<double>(k) / steps);
+      samples.emplace_back(q.x(), q.y(), q.z());
+      edge_of.emplace_back(a, b);
+    }
+  }
+  if (samples.empty()) throw std::runtime_error("the skeleton has no edge");
+  std::vector<std::uint32_t> ids(samples.size());
+  for (std::uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
+  const kd::Tree tree(ids.begin(), ids.end(), kd::Tree::Splitter(), kd::Traits(kd::PointMap(samples.data())));
+  std::vector<double> d(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    const kd::KnnSearch search(tree, kd::Point(p.x(), p.y(), p.z()), 8, 0, true, kd::KnnSearch::Distance(kd::PointMap(samples.data())));
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& [id, d2] : search) {
+      const auto [a, b] = edge_of[id];
+      best = std::min(best, point_segment_distance(p, skeleton[a].position, skeleton[b].position));
+    }
+    d[i] = best;
+  }
+  return d;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   std::vector<std::string> files;
-  std::string truth_file, frame_file, missed_file;
+  std::string truth_file, frame_file, missed_file, skeleton_file;
   bool check_file = false, precision = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -45,6 +91,8 @@ int main(int argc, char** argv) {
       up = axis == "x" ? Eigen::Vector3d::UnitX() : axis == "y" ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ();
     } else if (a == "--truth" && i + 1 < argc) {
       truth_file = argv[++i];
+    } else if (a == "--skeleton" && i + 1 < argc) {
+      skeleton_file = argv[++i];
     } else if (a == "--check") {
       check_file = true;
     } else if (a == "--frame" && i + 1 < argc) {
@@ -58,7 +106,8 @@ int main(int argc, char** argv) {
     }
   }
   if (files.size() != 2) {
-    std::cerr << "usage: bench_coverage [--up x|y|z] [--truth SKELETON] [--check] [--frame MODELLED] [--precision] [--missed OUT.xyz] CLOUD MESH\n";
+    std::cerr << "usage: bench_coverage [--up x|y|z] [--truth SKELETON] [--skeleton SKELETON] [--check] [--frame MODELLED] [--precision]\n"
+                 "                      [--missed OUT.xyz] CLOUD MESH\n";
     return 2;
   }
   try {
@@ -92,6 +141,22 @@ int main(int argc, char** argv) {
         if (d[i] > 0.02 * height) std::fprintf(out, "%.4f %.4f %.4f %.4f\n", p.x(), p.y(), p.z(), d[i]);
       }
       if (std::fclose(out) != 0) throw std::runtime_error("cannot write " + missed_file);
+    }
+    if (!skeleton_file.empty()) {
+      // The skeleton in the cloud's local frame, as the mesh is.
+      Skeleton skeleton = io::read_skeleton(skeleton_file);
+      const Eigen::Vector3d shift = skeleton.offset - cloud.offset;
+      for (NodeId v = 0; v < skeleton.node_count(); ++v) skeleton[v].position += shift;
+      const auto axis = axis_distances(skeleton, cloud.positions, 0.001 * height);
+      std::size_t missed = 0, missed_near = 0;
+      for (std::size_t i = 0; i < d.size(); ++i)
+        if (d[i] > 0.02 * height) {
+          ++missed;
+          missed_near += axis[i] <= 0.02 * height;
+        }
+      std::printf("skeleton: within 1%% %.3f, within 2%% %.3f; of the %zu points farther than 2%% from the mesh, %.3f within 2%% of the skeleton\n",
+                  modeling::share_within(axis, 0.01 * height), modeling::share_within(axis, 0.02 * height), missed,
+                  missed == 0 ? 0.0 : static_cast<double>(missed_near) / static_cast<double>(missed));
     }
     if (precision) {
       std::vector<kd::Point> points;

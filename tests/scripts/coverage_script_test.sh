@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# bench/coverage.sh on the bundled AdTree tree: one row whose columns hold what they say. The mesh is
+# closed, manifold and one piece; the shares are shares and the skeleton's within 1% is no more than
+# its within 2%; the points the mesh misses are counted and measured against the skeleton's axis; and
+# the skeleton's axis, being thinner than the mesh, lies near fewer points than the mesh's surface.
+set -uo pipefail
+root=${1:?usage: coverage_script_test.sh SOURCE_DIR BUILD_DIR}
+export TREESKEL_BUILD_DIR=${2:?usage: coverage_script_test.sh SOURCE_DIR BUILD_DIR}
+out=$(bash "$root/bench/coverage.sh" "$root/data/tree_adtree1.xyz") || { echo "FAIL: coverage.sh exited with $?"; exit 1; }
+echo "$out"
+row=$(grep '^| tree_adtree1.xyz |' <<<"$out")
+[ -n "$row" ] || { echo "FAIL: no row for the cloud"; exit 1; }
+node -e '
+  const cells = process.argv[1].split("|").slice(1, -1).map((s) => s.trim());
+  const fail = (why) => { console.log("FAIL: " + why + ": " + process.argv[1]); process.exit(1); };
+  if (cells.length !== 10) fail(`${cells.length} columns, not 10`);
+  const [name, points, near1, near2, reach, inside, axis, missedNear, seconds, file] = cells;
+  if (Number(points) !== 11855) fail("points");
+  const share = (s) => { const v = Number(s); if (!(v >= 0 && v <= 1)) fail(`${s} is not a share`); return v; };
+  const m1 = share(near1), m2 = share(near2);
+  if (m1 > m2) fail("within 1% above within 2%");
+  const [a1, a2] = axis.split("/").map((s) => share(s.trim()));
+  if (a1 > a2) fail("the axis within 1% above its within 2%");
+  if (a2 > m2) fail("the bare axis is near more points than the mesh around it");
+  if (a2 < 0.8 || m2 < 0.9) fail("far less of the tree than the coverage table says");
+  if (m2 < 1 && missedNear === "-") fail("points missed but none measured against the axis");
+  if (missedNear !== "-") share(missedNear);
+  if (!(Number(seconds) > 0)) fail("seconds");
+  if (file !== "yes, 1, 0") fail("the file read back is not one closed, manifold piece free of self-intersection");
+' "$row"
