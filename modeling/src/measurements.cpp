@@ -1,3 +1,4 @@
+#include "treeskel/geometry.h"
 #include "treeskel/modeling/measurements.h"
 
 #include "treeskel/error.h"
@@ -64,7 +65,6 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
   const auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
   const Eigen::Vector3d up = options.up.normalized();
-  constexpr double kPi = 3.14159265358979323846;
 
   TreeMeasurements m;
   m.breast_height = options.breast_height;
@@ -131,7 +131,7 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
     const Eigen::Vector3d d = g[v].position - g[p].position;
     const double length = d.norm();
     const double r1 = g[p].radius, r2 = g[v].radius;
-    const double volume = kPi * length / 3.0 * (r1 * r1 + r1 * r2 + r2 * r2);
+    const double volume = frustum_volume(r1, r2, length);
     m.volume += volume;
     m.length += length;
     if (branch[v] == 1) m.trunk_length += length;

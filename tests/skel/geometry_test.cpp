@@ -56,5 +56,16 @@ TEST(SegmentSegmentDistance, MatchesDenseSampling) {
   }
 }
 
+TEST(FrustumVolume, CylinderConeAndFrustum) {
+  const double pi = 3.14159265358979323846;
+  EXPECT_DOUBLE_EQ(frustum_volume(2.0, 2.0, 3.0), pi * 4.0 * 3.0);        // a cylinder
+  EXPECT_DOUBLE_EQ(frustum_volume(2.0, 0.0, 3.0), pi * 4.0 * 3.0 / 3.0);  // a cone
+  // A frustum is the cone it was cut from less the cone cut off: radii 2 and 1 over 1 is the cone of
+  // radius 2 and height 2 less the one of radius 1 and height 1.
+  EXPECT_NEAR(frustum_volume(2.0, 1.0, 1.0), pi * (4.0 * 2.0 - 1.0 * 1.0) / 3.0, 1e-12);
+  EXPECT_DOUBLE_EQ(frustum_volume(1.0, 2.0, 1.0), frustum_volume(2.0, 1.0, 1.0));
+  EXPECT_EQ(frustum_volume(1.0, 1.0, 0.0), 0.0);
+}
+
 }  // namespace
 }  // namespace treeskel

@@ -8,6 +8,12 @@
 
 namespace treeskel {
 
+/// Volume of the frustum of a cone with end radii `r1`, `r2` and height `length`.
+inline double frustum_volume(double r1, double r2, double length) {
+  constexpr double kPi = 3.14159265358979323846;
+  return kPi * length / 3.0 * (r1 * r1 + r1 * r2 + r2 * r2);
+}
+
 /// Distance from `p` to the segment [a, b] (to `a` when the segment is a point).
 inline double point_segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const Eigen::Vector3d ab = b - a;
