@@ -28,6 +28,10 @@ struct TreeScale {
   /// between them by, and the limbs swept apart from that fork lay beside the tree (TreeLS's spruce,
   /// LPine1's tree 11).
   double limb_radius = 0.0;
+  /// The wood of the whole tree (the frustums between its nodes, radii raised to the floor): a branch
+  /// that carries `max_thinned_share` of it or more is swept apart, not thinned (see `SweepOptions`);
+  /// 0: not known, and no branch is swept apart for what it carries.
+  double wood_volume = 0.0;
 };
 
 /// `sweep_mesh` with the frame files hold and the floor radius given (a piece of a tree is checked

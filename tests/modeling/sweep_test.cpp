@@ -231,13 +231,14 @@ TEST(SweepMesh, LocalFloatsAreTheFloatsTheMeshIsRoundedTo) {
 
 // Two branches from different forks whose tubes run through each other: the repair thins the
 // thinner one (by what clears it, not step by step) until the mesh no longer intersects itself.
-TEST(SweepMesh, CrossingBranchesAreThinnedUntilTheyClear) {
+/// A trunk with two forks; from the low fork a branch rising gently along x (radius 0.05), from the
+/// high one a thinner branch (0.04) coming down onto it, whose last part comes within 0.075 of it
+/// (their radii sum to 0.09). The descending branch holds about a tenth of the skeleton's wood.
+Skeleton crossing_branches() {
   Skeleton s = test::straight(1.0, 0.1, 10);
   const NodeId low_fork = static_cast<NodeId>(s.node_count() - 1);
   const NodeId high_fork = test::add_run(s, low_fork, Eigen::Vector3d(0, 0, 2), 0.08, 10);
   test::add_run(s, high_fork, Eigen::Vector3d(0, 0, 2.8), 0.05, 8);
-  // From the low fork, a branch rising gently along x; from the high one, a thinner branch coming
-  // down onto it, whose last part comes within 0.075 of it (their radii sum to 0.09).
   SkeletonNode a_first, b_first;
   a_first.position = Eigen::Vector3d(0.1, 0, 1.02);
   a_first.radius = 0.05;
@@ -249,13 +250,19 @@ TEST(SweepMesh, CrossingBranchesAreThinnedUntilTheyClear) {
   test::add_run(s, a, Eigen::Vector3d(1.5, 0, 1.3), 0.05, 14);
   const NodeId bend = test::add_run(s, b, Eigen::Vector3d(0.3, 0, 1.5), 0.04, 5);
   test::add_run(s, bend, Eigen::Vector3d(1.2, 0, 1.24 + 0.075), 0.04, 9);
+  return s;
+}
 
+TEST(SweepMesh, CrossingBranchesAreThinnedUntilTheyClear) {
+  const Skeleton s = crossing_branches();
   SweepOptions no_repair;
   no_repair.repair = false;
   EXPECT_GT(check_mesh(sweep_mesh(s, no_repair)).self_intersections, 0u);  // they do cross
 
+  SweepOptions o;
+  o.max_thinned_share = 0.5;  // the thinner branch carries less: it is thinned
   SweepStats stats;
-  const TreeMesh mesh = sweep_mesh(s, {}, &stats);
+  const TreeMesh mesh = sweep_mesh(s, o, &stats);
   expect_valid(mesh);
   EXPECT_EQ(stats.self_intersections, 0u);
   EXPECT_GE(stats.repair_rounds, 1);
@@ -263,6 +270,31 @@ TEST(SweepMesh, CrossingBranchesAreThinnedUntilTheyClear) {
   EXPECT_EQ(stats.late_repair_rounds, 0);
   EXPECT_EQ(stats.repaired_dropped, 0u);
   EXPECT_GE(stats.repaired_shrunk, 1u);
+}
+
+TEST(SweepMesh, ABranchThatCarriesMuchOfTheWoodIsSweptApartNotThinned) {
+  // By default a branch that carries 2% of the wood or more is not thinned (with all it carries)
+  // where it crosses another: it is swept apart at its own radius and united with the tree.
+  const Skeleton s = crossing_branches();
+  SweepStats stats;
+  const TreeMesh mesh = sweep_mesh(s, {}, &stats);
+  expect_valid(mesh);
+  EXPECT_EQ(check_mesh(mesh).components, 1u);
+  EXPECT_EQ(stats.self_intersections, 0u);
+  EXPECT_EQ(stats.repaired_shrunk, 0u);
+  EXPECT_EQ(stats.repaired_dropped, 1u);
+  EXPECT_GE(stats.pieces, 1u);
+  EXPECT_EQ(stats.pieces_apart, 0u);
+  // The descending branch keeps its radius: a line along its last run, 0.9 of its radius to the side
+  // (+y, away from the other branch), lies inside the mesh. Thinned by 0.7 it would lie outside.
+  Skeleton side;
+  SkeletonNode from, to;
+  from.position = Eigen::Vector3d(0.5, 0.9 * 0.04, 1.5 - (1.5 - 1.315) * 0.2 / 0.9);
+  to.position = Eigen::Vector3d(1.0, 0.9 * 0.04, 1.5 - (1.5 - 1.315) * 0.7 / 0.9);
+  const NodeId f = add_node(side, from), t = add_node(side, to);
+  boost::add_edge(f, t, side.graph);
+  side.root = f;
+  EXPECT_GT(skeleton_coverage(side, mesh).share(), 0.99);
 }
 
 TEST(SweepMesh, ATrunkWhoseSkeletonWandersInsideItIsNotThinned) {

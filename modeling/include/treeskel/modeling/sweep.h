@@ -52,6 +52,10 @@ struct SweepOptions {
   /// Only branches thinner than this share of the thickest radius may be left out by the repair;
   /// thicker ones are thinned further instead.
   double max_drop_radius = 0.25;
+  /// A branch that carries at least this share of the tree's wood (the frustums of it and all it
+  /// carries) is swept apart at its first crossing, at its own radii, and united with the tree,
+  /// rather than thinned with all it carries. 1 or more: thinned as any branch.
+  double max_thinned_share = 0.02;
   /// Where limbs swept apart are united with the tree, edges shorter than this share of the tree's
   /// extent are collapsed: 32-bit floats (every mesh format but OBJ) hold about 1.2e-7 of it, so
   /// vertices closer than a few of those would merge in the file.
