@@ -1,7 +1,7 @@
-#include "treeskel/geometry.h"
 #include "treeskel/modeling/measurements.h"
 
 #include "treeskel/error.h"
+#include "treeskel/geometry.h"
 #include "treeskel/modeling/chains.h"
 #include "treeskel/modeling/radii.h"
 

@@ -229,8 +229,6 @@ TEST(SweepMesh, LocalFloatsAreTheFloatsTheMeshIsRoundedTo) {
   EXPECT_EQ(world_exact, input_frame.n_vertices());
 }
 
-// Two branches from different forks whose tubes run through each other: the repair thins the
-// thinner one (by what clears it, not step by step) until the mesh no longer intersects itself.
 /// A trunk with two forks; from the low fork a branch rising gently along x (radius 0.05), from the
 /// high one a thinner branch (0.04) coming down onto it, whose last part comes within 0.075 of it
 /// (their radii sum to 0.09). The descending branch holds about a tenth of the skeleton's wood.
@@ -253,6 +251,8 @@ Skeleton crossing_branches() {
   return s;
 }
 
+// Two branches from different forks whose tubes run through each other: the repair thins the
+// thinner one (by what clears it, not step by step) until the mesh no longer intersects itself.
 TEST(SweepMesh, CrossingBranchesAreThinnedUntilTheyClear) {
   const Skeleton s = crossing_branches();
   SweepOptions no_repair;
