@@ -24,18 +24,18 @@
 // the points farther than 2% from the mesh, the share within 2% of the skeleton: what the mesh lost of
 // what the skeleton reached. A point the skeleton does not come near is the skeleton's loss, not the
 // mesh's.
+#include "treeskel/geometry.h"
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/io/skeleton_io.h"
-#include "treeskel/geometry.h"
 #include "treeskel/kd_search.h"
 #include "treeskel/modeling/coverage.h"
 
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <limits>
 #include <iostream>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
