@@ -3,6 +3,8 @@
 # closed, manifold and one piece; the shares are shares and the skeleton's within 1% is no more than
 # its within 2%; the points the mesh misses are counted and measured against the skeleton's axis; and
 # the skeleton's axis, being thinner than the mesh, lies near fewer points than the mesh's surface.
+# A mesh in another frame than the cloud's (a georeferenced tree's OBJ in world coordinates) is
+# refused with the way out, not measured as covering nothing.
 set -uo pipefail
 root=${1:?usage: coverage_script_test.sh SOURCE_DIR BUILD_DIR}
 export TREESKEL_BUILD_DIR=${2:?usage: coverage_script_test.sh SOURCE_DIR BUILD_DIR}
@@ -28,3 +30,13 @@ node -e '
   if (!(Number(seconds) > 0)) fail("seconds");
   if (file !== "yes, 1, 0") fail("the file read back is not one closed, manifold piece free of self-intersection");
 ' "$row"
+
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+awk '{ printf "%.3f %.3f %s\n", $1 + 500000, $2 + 5000000, $3 }' "$root/data/tree_adtree1.xyz" > "$dir/utm.xyz"
+"$TREESKEL_BUILD_DIR/cli/treeskel" model "$dir/utm.xyz" -q -o "$dir/world.obj" || { echo "FAIL: model of the shifted tree"; exit 1; }
+if "$TREESKEL_BUILD_DIR/bench/bench_coverage" "$dir/utm.xyz" "$dir/world.obj" >"$dir/out" 2>"$dir/err"; then
+  echo "FAIL: a mesh in world coordinates was measured against the local cloud: $(cat "$dir/out")"
+  exit 1
+fi
+grep -q -- "--local" "$dir/err" || { echo "FAIL: no hint of --local: $(cat "$dir/err")"; exit 1; }
