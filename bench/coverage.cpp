@@ -120,31 +120,28 @@ int main(int argc, char** argv) {
     }
     const modeling::TreeMesh mesh = io::read_mesh(files[1]);
     double lo = 1e300, hi = -1e300, mesh_lo = 1e300, mesh_hi = -1e300;
+    Eigen::AlignedBox3d cloud_box, mesh_box;
     for (const auto& p : cloud.positions) {
       lo = std::min(lo, p.dot(up));
       hi = std::max(hi, p.dot(up));
+      cloud_box.extend(p);
     }
     for (auto v : mesh.vertices()) {
       const auto p = mesh.point(v);
-      const double h = Eigen::Vector3d(p[0], p[1], p[2]).dot(up);
-      mesh_lo = std::min(mesh_lo, h);
-      mesh_hi = std::max(mesh_hi, h);
+      const Eigen::Vector3d q(p[0], p[1], p[2]);
+      mesh_lo = std::min(mesh_lo, q.dot(up));
+      mesh_hi = std::max(mesh_hi, q.dot(up));
+      mesh_box.extend(q);
     }
-    {
-      // A mesh written in another frame (a georeferenced cloud's OBJ in world coordinates, without
-      // --local) lies far from the cloud: every share would read 0, as if nothing were covered.
-      Eigen::AlignedBox3d cloud_box, mesh_box;
-      for (const auto& p : cloud.positions) cloud_box.extend(p);
-      for (auto v : mesh.vertices()) mesh_box.extend(Eigen::Vector3d(mesh.point(v)[0], mesh.point(v)[1], mesh.point(v)[2]));
-      Eigen::AlignedBox3d near = cloud_box;
-      const double grow = 0.1 * cloud_box.sizes().maxCoeff();
-      near.min().array() -= grow;
-      near.max().array() += grow;
-      if (mesh.n_vertices() == 0 || !near.intersects(mesh_box))
-        throw std::runtime_error("the mesh does not overlap the cloud (its centre lies " +
-                                 std::to_string((mesh_box.center() - cloud_box.center()).norm()) +
-                                 " from the cloud's): it was written in another frame; write it with `treeskel model CLOUD --local`");
-    }
+    // A mesh written in another frame (a georeferenced cloud's OBJ in world coordinates, without
+    // --local) lies far from the cloud: every share would read 0, as if nothing were covered.
+    Eigen::AlignedBox3d near = cloud_box;
+    near.min().array() -= 0.1 * cloud_box.sizes().maxCoeff();
+    near.max().array() += 0.1 * cloud_box.sizes().maxCoeff();
+    if (mesh.n_vertices() == 0 || !near.intersects(mesh_box))
+      throw std::runtime_error("the mesh does not overlap the cloud (its centre lies " +
+                               std::to_string((mesh_box.center() - cloud_box.center()).norm()) +
+                               " from the cloud's): it was written in another frame; write it with `treeskel model CLOUD --local`");
     const double height = hi - lo;
     const auto d = modeling::surface_distances(mesh, cloud.positions);
     std::printf("%zu points, height %.3f: within 1%% %.3f, within 2%% %.3f, reach %.3f\n", cloud.size(), height,
