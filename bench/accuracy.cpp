@@ -245,6 +245,7 @@ int main(int argc, char** argv) {
   std::string out = "docs/accuracy.md", paper_csv = "bench/data/paper_tables.csv", pypetree;
   bool run_paper = true, run_hard = true;
   double prune_radius = PruneOptions{}.radius_factor, band_factor = 1.0, cell_points = OctreeOptions{}.points_per_cell;
+  std::size_t far_points = NeighbourGraphOptions{}.far_bridge_min_points;
   int extra_depth = OctreeOptions{}.max_extra_depth, deeper_reach = 0, depth_steps = OctreeOptions{}.depth_steps;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -274,6 +275,8 @@ int main(int argc, char** argv) {
       deeper_reach = std::stoi(value());
     } else if (a == "--prune-radius") {
       prune_radius = std::stod(value());
+    } else if (a == "--far-bridge-points") {
+      far_points = std::stoull(value());
     } else if (a == "--sets") {
       const std::string v = value();
       run_paper = v.find("paper") != std::string::npos;
@@ -282,6 +285,7 @@ int main(int argc, char** argv) {
     } else {
       std::cout << "usage: bench_accuracy [--seeds 1,2,3] [--out FILE.md] [--paper paper_tables.csv] [--pypetree DIR] [--sets paper,hard]\n"
                    "                      [--prune-radius F  (treeskel's spur pruning factor, to try a value)]\n"
+                   "                      [--far-bridge-points N  (treeskel's smallest part joined across a long gap)]\n"
                    "                      [--band-factor F  (treeskel's band width as F times its default, 2 cells;\n"
                    "                                         the pruning length stays at the default band)]\n"
                    "                      [--max-extra-depth N  (treeskel's octree at most N levels deeper than the\n"
@@ -296,6 +300,7 @@ int main(int argc, char** argv) {
   }
   auto configs = configurations();
   configs.back().options.prune.radius_factor = prune_radius;
+  configs.back().options.graph.far_bridge_min_points = far_points;
   configs.back().options.octree.max_extra_depth = extra_depth;
   configs.back().options.octree.points_per_cell = cell_points;
   configs.back().options.octree.depth_steps = depth_steps;
@@ -395,8 +400,9 @@ int main(int argc, char** argv) {
        << "2. **Ring joining** (`LevelSetOptions::join_factor`): band components that hang from the same node and "
           "lie closer than half its radius are one sparsely sampled ring, not a fork; and each component hangs "
           "from the lower component it shares most edges with, not only from its lowest cell's predecessor.\n"
-       << "3. **Far bridging** (`NeighbourGraphOptions::far_bridge_distance`): parts holding at least ten "
-          "points are joined across gaps up to a tenth of the cloud's size, so a branch or twig cut off by an "
+       << "3. **Far bridging** (`NeighbourGraphOptions::far_bridge_distance`): parts holding at least "
+       << NeighbourGraphOptions{}.far_bridge_min_points
+       << " points are joined across gaps up to a tenth of the cloud's size, so a branch or twig cut off by an "
           "occlusion is not lost (this is what moves SPD on the missing-data clouds).\n"
        << "4. **CPC guarded** (`cpc.h`): moves only across the branch, only onto a cylinder-like slice.\n"
        << "5. **Spur pruning** (`prune.h`, a leaf branch that stays within " << PruneOptions{}.radius_factor

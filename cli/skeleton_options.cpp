@@ -92,6 +92,10 @@ void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
   c.add_option("--bridge", o.graph.bridge_distance,
                 "Join parts of the cloud whose gap is at most this long (0: 4 cells; negative: never)")
       ->default_val(o.graph.bridge_distance)->group(g);
+  c.add_option("--far-bridge-points", o.graph.far_bridge_min_points,
+                "Parts of at least this many points are also joined across gaps up to a tenth of the cloud's size "
+                "(a twig cut off by an occlusion); smaller ones only across --bridge")
+      ->default_val(o.graph.far_bridge_min_points)->check(in_range(1, 1000000))->group(g);
   c.add_option("--small-cluster", o.graph.small_cluster_fraction,
                 "Parts left apart that hold less than this share of the points are reported as noise")
       ->default_val(o.graph.small_cluster_fraction)->check(in_range(0.0, 1.0))->group(g);
