@@ -81,9 +81,7 @@ def test_model_warns_as_the_command_does(data):
 
 
 def test_tree_mesh_warns_of_limbs_left_out(data):
-    # Far bridging of parts of ten points or more (the default until December 2026) gives a skeleton
-    # whose limbs left out hold more than 5% of its length.
-    skeleton = treeskel.fit_radii(treeskel.extract_skeleton(str(data / "tree_adtree1.xyz"), far_bridge_points=10))
+    skeleton = treeskel.fit_radii(treeskel.extract_skeleton(str(data / "tree_adtree1.xyz")))
     # Limbs not united (no_unite) are left out, and with them much of the skeleton: said, as the
     # command says it, though tree_mesh measures nothing.
     with pytest.warns(UserWarning) as said:

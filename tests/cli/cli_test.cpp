@@ -56,6 +56,28 @@ TEST(Cli, JsonReportAndEveryOutputFormat) {
   }
 }
 
+// Twig pieces cut off by scan gaps: a lower floor for far bridging joins more of them to the tree
+// (fewer points left out as small clusters, more nodes); 0 is refused.
+TEST(Cli, FarBridgePointsSetsTheSmallestPartJoinedAcrossALongGap) {
+  const test::TempDir dir;
+  const std::string input = test::data_file("tree_adtree1.xyz");
+  const auto skeleton = [&](const std::string& options) {
+    const Result r = run("skeletonize " + quoted(input) + " -o " + quoted(dir.path("s.json")) + " --json " + options);
+    EXPECT_EQ(r.code, 0) << r.out;
+    return nlohmann::json::parse(r.out);
+  };
+  const auto plain = skeleton(""), ten = skeleton("--far-bridge-points 10"), three = skeleton("--far-bridge-points 3");
+  EXPECT_EQ(plain["nodes"], ten["nodes"]);  // 10 is the default
+  const auto left = [](const nlohmann::json& j) { return j["left_out"]["small_clusters"].get<int>(); };
+  EXPECT_GT(left(ten), 0);
+  EXPECT_LT(left(three), left(ten));
+  EXPECT_GT(three["nodes"].get<int>(), ten["nodes"].get<int>());
+  const Result refused = run("skeletonize " + quoted(input) + " -o " + quoted(dir.path("bad.json")) + " --far-bridge-points 0");
+  EXPECT_EQ(refused.code, 2) << refused.out;
+  EXPECT_NE(refused.out.find("--far-bridge-points"), std::string::npos) << refused.out;
+  EXPECT_FALSE(fs::exists(dir.path("bad.json")));
+}
+
 TEST(Cli, ReadsLasAndPlyAndKeepsTheInputFrame) {
   const test::TempDir dir;
   PointCloud c = io::read_point_cloud(test::data_file("tree_rtwig.txt"));

@@ -143,8 +143,8 @@ TEST(SweepMesh, PaperTreesGiveValidMeshes) {
 // joins leave no room for a branch (the sweep once dropped them and showed 53% of the cloud):
 // those are swept apart and united with the tree, and the mesh holds the skeleton's whole length.
 TEST(SweepMesh, BundledCloudsGiveValidWholeMeshes) {
-  // The cases below were found on tree1's skeleton of whole octree depths and far bridging of parts
-  // of ten points; today's default skeleton of it must give a valid whole mesh too.
+  // The cases below were found on tree1's skeleton of whole octree depths; today's default skeleton
+  // of it must give a valid whole mesh too.
   for (const char* name : {"tree_rtwig.txt", "tree_adtree1.xyz", "tree_adtree1.xyz@whole-depths"}) {
     const Skeleton s = bundled_skeleton(name);
     SweepStats stats;

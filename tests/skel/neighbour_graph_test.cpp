@@ -115,24 +115,23 @@ TEST(NeighbourGraph, BridgeLinksEachPartToItsNearestForeignCell) {
   EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 0u);
 }
 
-TEST(NeighbourGraph, FarBridgingJoinsATwigPieceOfThreePointsButNotTwoStrayPoints) {
-  // A line of cells along z (3 points each), a twig piece of 3 points 4 cells beside it, and 2 stray
-  // points 4 cells beside it elsewhere: beyond the near bridge (2.5), within the far one (5).
+TEST(NeighbourGraph, FarBridgingJoinsATwigPieceOfTenPointsButNotFewerStrayPoints) {
+  // A line of cells along z (3 points each), a twig piece of 10 points 4 cells beside it, and 9
+  // stray points 4 cells beside it elsewhere: beyond the near bridge (2.5), within the far one (5).
   PointCloud cloud;
   const auto put = [&](const Eigen::Vector3i& g, int n) {
     for (int i = 0; i < n; ++i)
       cloud.positions.push_back(g.cast<double>() + Eigen::Vector3d(0.3 + 0.04 * i, 0.5, 0.7 - 0.04 * i));
   };
   for (int z = 0; z < 31; ++z) put({8, 8, z}, 3);
-  put({12, 8, 15}, 2);  // the twig piece: two cells, 3 points
-  put({13, 8, 15}, 1);
-  put({8, 12, 25}, 2);  // the stray points
+  put({12, 8, 15}, 5);  // the twig piece: two cells, 10 points
+  put({13, 8, 15}, 5);
+  put({8, 12, 25}, 9);  // the stray points
   cloud.positions.emplace_back(0.0, 0.0, 0.0);
   cloud.positions.emplace_back(32.0, 32.0, 32.0);
   const OctreeCells cells = cells_at_depth(cloud, 5);
   ASSERT_DOUBLE_EQ(cells.cell_size, 1.0);
   NeighbourGraphOptions g;
-  ASSERT_EQ(g.far_bridge_min_points, 3u);
   g.bridge_distance = 2.5;
   g.far_bridge_distance = 5.0;
   const CellGraph graph = build_neighbour_graph(cells, g);
@@ -145,13 +144,13 @@ TEST(NeighbourGraph, FarBridgingJoinsATwigPieceOfThreePointsButNotTwoStrayPoints
   EXPECT_NE(id[cells.find({8, 12, 25})], id[trunk]);
   const MainPart main = select_main_part(cells, graph, g);
   EXPECT_EQ(main.parts, 4u);  // the line with the twig, the stray points, the two pins
-  EXPECT_EQ(main.left_out.total(), 4u);
+  EXPECT_EQ(main.left_out.total(), 11u);
 
-  // A floor above the twig's three points, or a share of the cloud above them, leaves it out too.
-  g.far_bridge_min_points = 4;
+  // A floor above the twig's ten points, or a share of the cloud above them, leaves it out too.
+  g.far_bridge_min_points = 11;
   EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 0u);
-  g.far_bridge_min_points = 3;
-  g.far_bridge_fraction = 0.1;  // 10 of the 100 points
+  g.far_bridge_min_points = 10;
+  g.far_bridge_fraction = 0.1;  // 11 of the 114 points
   EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 0u);
   // With the near bridge alone long enough, both join whatever their size.
   g.bridge_distance = 4.5;

@@ -35,10 +35,7 @@ Skeleton extract_bundled_skeleton(const std::string& name) {
   const bool whole_depths = name.size() > whole.size() && name.compare(name.size() - whole.size(), whole.size(), whole) == 0;
   const PointCloud cloud = io::read_point_cloud(data_file(whole_depths ? name.substr(0, name.size() - whole.size()) : name));
   SkeletonOptions options;
-  if (whole_depths) {
-    options.octree.depth_steps = 1;
-    options.graph.far_bridge_min_points = 10;
-  }
+  if (whole_depths) options.octree.depth_steps = 1;
   Skeleton s = extract_skeleton(cloud, options);
   modeling::fit_radii(s, &cloud);
   return s;
