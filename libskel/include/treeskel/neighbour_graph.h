@@ -39,7 +39,7 @@ struct NeighbourGraphOptions {
   /// The default joins a twig piece of ten points: on real scans most of what a larger share left
   /// out were such pieces (docs/models.md); the synthetic noise and missing-data sets score the same.
   /// A floor of 3 also joins the last twigs of sparse crowns (AdTree's tree33 reaches its top) and
-  /// scores the same or better on every synthetic set, but it is not the default: on one pine of the
+  /// scores better or within 0.001 on every synthetic set, but it is not the default: on one pine of the
   /// LPine1 plot the model's unions then ran for minutes (docs/models.md, "Far bridging of smaller
   /// parts").
   std::size_t far_bridge_min_points = 10;
