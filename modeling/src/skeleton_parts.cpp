@@ -114,8 +114,16 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
   return compact_nodes(sk, keep);
 }
 
-Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, const DepthTest& depth) {
-  const auto& chain = tree.chains[static_cast<std::size_t>(tree.chain_of[top])].nodes;
+Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, const DepthTest& depth,
+                  const std::vector<char>* swept, std::vector<NodeId>* members) {
+  const auto& whole_chain = tree.chains[static_cast<std::size_t>(tree.chain_of[top])].nodes;
+  // From the fork, or, with `swept`, from the last node of the chain (before `top`) the mesh holds.
+  std::size_t start = 1;
+  if (swept) {
+    const auto at = static_cast<std::size_t>(std::find(whole_chain.begin(), whole_chain.end(), top) - whole_chain.begin());
+    while (start < at && (*swept)[whole_chain[start]]) ++start;
+  }
+  const std::vector<NodeId> chain(whole_chain.begin() + static_cast<std::ptrdiff_t>(start - 1), whole_chain.end());
   Skeleton piece;
   piece.offset = skeleton.offset;
   std::map<NodeId, NodeId> id;
@@ -136,7 +144,11 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
   // a stub straight back to the parent's next node (at most one radius) left the pieces of narrow
   // forks outside the parent's tube when the parent bent, and the union had nothing to join.
   const NodeId fork = chain.front();
-  const std::vector<NodeId> branch = subtree(tree.children, chain[1]);  // with all it carries
+  // With all it carries but what the mesh holds (and all that carries).
+  std::vector<NodeId> branch{chain[1]};
+  for (std::size_t i = 0; i < branch.size(); ++i)
+    for (NodeId c : tree.children[branch[i]])
+      if (!swept || !(*swept)[c]) branch.push_back(c);
   // Toward the parent, or at a root with several branches, toward the thickest other one.
   NodeId toward = tree.parent[fork];
   const bool down = toward == fork;
@@ -234,6 +246,7 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
     add(v, skeleton[v].radius);
     boost::add_edge(id[tree.parent[v]], id[v], piece.graph);
   }
+  if (members) *members = std::move(branch);
   return piece;
 }
 

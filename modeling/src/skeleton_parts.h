@@ -35,8 +35,14 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
 /// piece whose tubes would meet that mesh nowhere (no point of its axis within its radius of it) has
 /// its stub follow the parent's path on, node by node, to the first node that lies the stub's
 /// radius deep in it (at most 8 nodes, not past the fork below).
+/// With `swept` (by node: whether the mesh the piece is to be united with holds it), the piece
+/// leaves out what that mesh holds, with all it carries, and starts at the last node before `top`
+/// on its chain that the mesh holds: a branch the sweep re-attached elsewhere stays in the mesh and
+/// out of the piece of the branch it left. `members` receives the nodes of `skeleton` the piece
+/// holds beyond its fork.
 using DepthTest = std::function<double(const Eigen::Vector3d&)>;
-Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, const DepthTest& depth = {});
+Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, const DepthTest& depth = {},
+                  const std::vector<char>* swept = nullptr, std::vector<NodeId>* members = nullptr);
 
 /// The path through `nodes` of `sk` as a skeleton rooted at its first node.
 Skeleton path_of(const Skeleton& sk, const std::vector<NodeId>& nodes);

@@ -991,9 +991,9 @@ std::optional<double> clearing_factor(const Attempt& attempt, std::size_t x, std
 
 /// Sweeps what of `skeleton` fits together into one valid mesh. Subtrees that a join or a crossing
 /// left no room for are not swept here: their nodes go to `detached`, for `sweep_mesh` to sweep
-/// apart and unite with this mesh.
+/// apart and unite with this mesh. `swept` tells, by node, whether the mesh holds it.
 TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, const Vector3d& frame, const detail::TreeScale& whole,
-                        SweepStats& st, std::vector<NodeId>& detached) {
+                        SweepStats& st, std::vector<NodeId>& detached, std::vector<char>& swept) {
   const double floor_radius = whole.floor_radius;
   const ChainTree tree = build_chains(skeleton);
   const auto& g = skeleton.graph;
@@ -1056,11 +1056,17 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
     ++st.attempts;
     // The subtrees the builder left out, as it saw them: a branch re-attached to a thicker one hangs
     // from it there, so the whole subtree under each top (in `pruned`) goes, mapped back.
+    // The nodes the mesh holds: those of `pruned` the builder did not leave out.
     auto record_detached = [&](const Skeleton& p, const std::vector<NodeId>& ids, const std::vector<NodeId>& tops) {
-      if (tops.empty()) return;
-      const ChainTree pt = build_chains(p);
-      for (NodeId top : tops)
-        for (NodeId v : subtree(pt.children, top)) detached.push_back(ids[v]);
+      const std::size_t first = detached.size();
+      if (!tops.empty()) {
+        const ChainTree pt = build_chains(p);
+        for (NodeId top : tops)
+          for (NodeId v : subtree(pt.children, top)) detached.push_back(ids[v]);
+      }
+      swept.assign(n, 0);
+      for (NodeId v : ids) swept[v] = 1;
+      for (std::size_t i = first; i < detached.size(); ++i) swept[detached[i]] = 0;
     };
     std::vector<std::int64_t> pruned_of(n, -1);
     for (std::size_t v = 0; v < old_id.size(); ++v) pruned_of[old_id[v]] = static_cast<std::int64_t>(v);
@@ -1245,6 +1251,38 @@ TreeMesh sweep_mesh(const Skeleton& skeleton, const SweepOptions& options, Sweep
   return detail::sweep_in_frame(skeleton, options, frame, -1.0, stats);
 }
 
+namespace {
+
+/// `shape` without the nodes `taken` (into pieces). A branch the mesh holds whose parent went into a
+/// piece (the builder re-attached it to a thicker branch) hangs from the nearest node left, as
+/// the builder hung it: the part stays one tree, for `split_piece`.
+Skeleton kept_part(const Skeleton& shape, const ChainTree& tree, const std::vector<bool>& taken) {
+  const std::size_t n = taken.size();
+  Skeleton kept = shape;
+  std::vector<bool> keep(n);
+  for (NodeId v = 0; v < n; ++v) keep[v] = !taken[v];
+  for (NodeId v = 0; v < n; ++v) {
+    if (!keep[v] || v == shape.root || keep[tree.parent[v]]) continue;
+    std::vector<bool> own(n, false);
+    for (NodeId u : subtree(tree.children, v)) own[u] = true;
+    NodeId nearest = shape.root;  // never taken, and not above v
+    double best = std::numeric_limits<double>::infinity();
+    for (NodeId u = 0; u < n; ++u) {
+      const double d = (shape[u].position - shape[v].position).squaredNorm();
+      if (keep[u] && !own[u] && d < best) {
+        best = d;
+        nearest = u;
+      }
+    }
+    boost::remove_edge(tree.parent[v], v, kept.graph);
+    boost::add_edge(nearest, v, kept.graph);
+  }
+  compact_nodes(kept, keep);
+  return kept;
+}
+
+}  // namespace
+
 TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,
                             const TreeScale& scale, SweepStats& st, std::vector<Skeleton>& apart, Skeleton* kept) {
   const ChainTree tree = build_chains(skeleton);
@@ -1279,7 +1317,8 @@ TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& option
   o.min_relative_radius = 0.0;  // applied above, once for the whole tree
 
   std::vector<NodeId> detached;
-  TreeMesh mesh = sweep_attached(shape, o, frame, scale, st, detached);
+  std::vector<char> swept;
+  TreeMesh mesh = sweep_attached(shape, o, frame, scale, st, detached, swept);
   if (!detached.empty() && !options.unite_apart) {
     std::vector<bool> cut(n, false);
     for (NodeId v : detached) cut[v] = true;
@@ -1287,35 +1326,30 @@ TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& option
       if (cut[v] && !cut[tree.parent[v]]) ++st.pieces_failed;  // left out, as asked
   } else if (!detached.empty()) {
     // Each subtree left out above is swept on its own, and the pieces are united with the mesh: a
-    // limb is never lost for want of room at a join. One piece per branch, none inside another's.
-    std::vector<bool> taken(n, false);
-    std::vector<bool> cut(n, false);
+    // limb is never lost for want of room at a join. One piece per branch, none inside another's,
+    // none holding what the mesh holds: a branch the builder re-attached to a thicker one (see
+    // relocate_narrow_branches) stays in the mesh when the branch it left goes. (Taken with that
+    // branch's subtree, an 8,614-node limb of a pine of the LPine1 plot was swept twice, in the
+    // mesh and in a piece, and the unions ran for six minutes on the crossings of the two copies.)
+    std::vector<bool> cut(n, false), taken(n, false);
     for (NodeId v : detached) cut[v] = true;
-    std::vector<NodeId> tops;
+    std::vector<NodeId> tops;  // the first node of each subtree left out
     for (NodeId v = 0; v < n; ++v)
-      if (cut[v] && v != shape.root && !cut[tree.parent[v]])
-        tops.push_back(tree.chains[static_cast<std::size_t>(tree.chain_of[v])].nodes[1]);
-    std::sort(tops.begin(), tops.end(), [&](NodeId a, NodeId b) { return tree.chain_of[a] < tree.chain_of[b]; });
-    tops.erase(std::unique(tops.begin(), tops.end()), tops.end());
-    std::vector<NodeId> outer;
-    for (NodeId top : tops) {
-      if (taken[top]) continue;
-      for (NodeId v : subtree(tree.children, top)) taken[v] = true;
-      outer.push_back(top);
-    }
+      if (cut[v] && v != shape.root && !cut[tree.parent[v]]) tops.push_back(v);
+    std::stable_sort(tops.begin(), tops.end(), [&](NodeId a, NodeId b) { return tree.chain_of[a] < tree.chain_of[b]; });
     // Each stub is checked against the mesh its parent went into (see piece_of).
     std::optional<detail::MeshDepth> in_mesh;
     const detail::DepthTest depth = [&](const Vector3d& p) {
       if (!in_mesh) in_mesh.emplace(mesh);
       return (*in_mesh)(p);
     };
-    for (NodeId top : outer) apart.push_back(piece_of(shape, tree, top, depth));
-    if (kept) {
-      std::vector<bool> keep(n);
-      for (NodeId v = 0; v < n; ++v) keep[v] = !taken[v];
-      *kept = shape;
-      compact_nodes(*kept, keep);
+    for (NodeId top : tops) {
+      if (taken[top]) continue;
+      std::vector<NodeId> members;
+      apart.push_back(piece_of(shape, tree, top, depth, &swept, &members));
+      for (NodeId v : members) taken[v] = true;
     }
+    if (kept) *kept = kept_part(shape, tree, taken);
     return mesh;
   }
   if (kept) *kept = shape;

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <vector>
 
 namespace treeskel::modeling::detail {
 namespace {
@@ -106,6 +108,67 @@ TEST(SkeletonParts, PieceOfAThinArmHasAStubAsThickAsTheArm) {
   EXPECT_EQ(piece.node_count(), 25u);
   EXPECT_DOUBLE_EQ(piece[piece.root].radius, 0.01);
   EXPECT_TRUE(piece[piece.root].position.isApprox(s[fork].position - Eigen::Vector3d(0, 0, 4 * s[fork].radius), 1e-12));
+}
+
+// A branch the sweep re-attached to a thicker one stays in the mesh when the branch it left goes
+// apart: the piece of that branch leaves it out, with all it carries. (Taken with the subtree of the
+// branch it left, an 8,614-node limb of a pine of the LPine1 plot was swept twice.)
+TEST(SkeletonParts, APieceLeavesOutWhatTheMeshHolds) {
+  Skeleton s = test::y_shape(0.05, 0.6, 20);  // arms 21..40 and 41..60
+  const NodeId sub_tip = test::add_run(s, 30, Eigen::Vector3d(-1.0, 0.3, 1.8), 0.01, 10);  // 61..70, from arm 1
+  const ChainTree tree = build_chains(s);
+  std::vector<char> swept(s.node_count(), 0);
+  for (NodeId v = 0; v <= 20; ++v) swept[v] = 1;  // the trunk
+  for (NodeId v = 61; v <= sub_tip; ++v) swept[v] = 1;  // the branch on arm 1, hung elsewhere
+  std::vector<NodeId> members;
+  const Skeleton piece = piece_of(s, tree, 21, {}, &swept, &members);
+  std::vector<NodeId> arm(10);
+  std::iota(arm.begin(), arm.end(), NodeId{21});  // 21..30: arm 1 up to the branch's fork
+  std::vector<NodeId> rest(10);
+  std::iota(rest.begin(), rest.end(), NodeId{31});  // 31..40: on from there
+  std::vector<NodeId> expected = arm;
+  expected.insert(expected.end(), rest.begin(), rest.end());
+  std::sort(members.begin(), members.end());
+  EXPECT_EQ(members, expected);
+  EXPECT_TRUE(is_tree(piece.graph));
+  for (NodeId v = 0; v < piece.node_count(); ++v)
+    for (NodeId b = 61; b <= sub_tip; ++b) EXPECT_NE(piece[v].position, s[b].position);
+  // Without the mask, the piece holds the branch too (as `split_piece` wants: nothing is swept).
+  std::vector<NodeId> all;
+  piece_of(s, tree, 21, {}, nullptr, &all);
+  EXPECT_EQ(all.size(), 30u);
+}
+
+// A piece whose top lies along a chain the mesh holds in part starts at the last node the mesh holds
+// before it, not at the chain's fork: the stretch below is in the mesh already.
+TEST(SkeletonParts, APieceStartsWhereTheMeshStopsHoldingItsChain) {
+  const Skeleton s = test::y_shape(0.05, 0.6, 20);
+  const ChainTree tree = build_chains(s);
+  std::vector<char> swept(s.node_count(), 0);
+  for (NodeId v = 0; v <= 25; ++v) swept[v] = 1;  // the trunk, and arm 1 up to 25
+  for (NodeId v = 41; v <= 60; ++v) swept[v] = 1;  // arm 2
+  std::vector<NodeId> members;
+  const Skeleton piece = piece_of(s, tree, 26, {}, &swept, &members);
+  ASSERT_EQ(members.size(), 15u);  // 26..40
+  EXPECT_EQ(members.front(), 26u);
+  EXPECT_EQ(members.back(), 40u);
+  EXPECT_TRUE(is_tree(piece.graph));
+  // Its fork is node 25, with the branch's radius there; its stub runs back along arm 1, not the trunk.
+  bool fork_found = false;
+  for (NodeId v = 0; v < piece.node_count(); ++v) {
+    if (piece[v].position == s[25].position) {
+      fork_found = true;
+      EXPECT_DOUBLE_EQ(piece[v].radius, s[26].radius);
+    }
+    EXPECT_NE(piece[v].position, s[20].position);
+  }
+  EXPECT_TRUE(fork_found);
+  // A top whose chain the mesh does not hold at all starts at its fork, as without the mask.
+  std::vector<char> none(s.node_count(), 0);
+  std::vector<NodeId> from_fork;
+  piece_of(s, tree, 30, {}, &none, &from_fork);
+  EXPECT_EQ(from_fork.size(), 20u);
+  EXPECT_EQ(from_fork.front(), 21u);
 }
 
 // Where the parent bends below the fork, the stub bends with it and stays on its axis: a stub
