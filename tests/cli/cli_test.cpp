@@ -67,7 +67,7 @@ TEST(Cli, FarBridgePointsSetsTheSmallestPartJoinedAcrossALongGap) {
     return nlohmann::json::parse(r.out);
   };
   const auto plain = skeleton(""), ten = skeleton("--far-bridge-points 10"), three = skeleton("--far-bridge-points 3");
-  EXPECT_EQ(plain["nodes"], ten["nodes"]);  // 10 is the default
+  EXPECT_EQ(plain["nodes"], three["nodes"]);  // 3 is the default
   const auto left = [](const nlohmann::json& j) { return j["left_out"]["small_clusters"].get<int>(); };
   EXPECT_GT(left(ten), 0);
   EXPECT_LT(left(three), left(ten));

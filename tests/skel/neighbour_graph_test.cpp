@@ -134,6 +134,10 @@ TEST(NeighbourGraph, FarBridgingJoinsATwigPieceOfTenPointsButNotFewerStrayPoints
   NeighbourGraphOptions g;
   g.bridge_distance = 2.5;
   g.far_bridge_distance = 5.0;
+  // The default floor (3 points) joins the stray points too: a part of 9 points is a twig piece to
+  // it. The test of the floor takes 10.
+  EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 2u);
+  g.far_bridge_min_points = 10;
   const CellGraph graph = build_neighbour_graph(cells, g);
   EXPECT_EQ(graph.bridges, 1u);
   const auto twig = cells.find({12, 8, 15}), trunk = cells.find({8, 8, 15});

@@ -36,13 +36,12 @@ struct NeighbourGraphOptions {
   /// cut off by an occlusion); smaller parts are not, so a few stray points do not become branches.
   /// 0 (default): a tenth of the cloud's size. Negative: no far bridging.
   double far_bridge_distance = 0.0;
-  /// The default joins a twig piece of ten points: on real scans most of what a larger share left
-  /// out were such pieces (docs/models.md); the synthetic noise and missing-data sets score the same.
-  /// A floor of 3 also joins the last twigs of sparse crowns (AdTree's tree33 reaches its top) and
-  /// scores better or within 0.001 on every synthetic set, but it is not the default: on one pine of the
-  /// LPine1 plot the model's unions then ran for minutes (docs/models.md, "Far bridging of smaller
-  /// parts").
-  std::size_t far_bridge_min_points = 10;
+  /// The default joins a twig piece of three points (a far link still needs such a part at both
+  /// ends, so a lone stray point stays out): on real scans most of what a larger floor left out were
+  /// such pieces, the last twigs of sparse crowns (AdTree's tree33 reaches its top with 3, 0.88 of its
+  /// height with 10), and every synthetic set scores better or within 0.001 (docs/models.md, "Far
+  /// bridging of smaller parts").
+  std::size_t far_bridge_min_points = 3;
   double far_bridge_fraction = 0.0;
   /// After bridging, a part that is not the tree and holds fewer than this share of the points is
   /// reported as a small isolated cluster (noise); a larger one as a far part. Both are left out.
