@@ -117,11 +117,11 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
 Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, const DepthTest& depth,
                   const std::vector<char>* swept, std::vector<NodeId>* members) {
   const auto& whole_chain = tree.chains[static_cast<std::size_t>(tree.chain_of[top])].nodes;
-  // From the fork, or, with `swept`, from the last node of the chain (before `top`) the mesh holds.
+  // From the fork, or, with `swept`, from the last node of the chain before `top` that the mesh holds.
   std::size_t start = 1;
   if (swept) {
-    const auto at = static_cast<std::size_t>(std::find(whole_chain.begin(), whole_chain.end(), top) - whole_chain.begin());
-    while (start < at && (*swept)[whole_chain[start]]) ++start;
+    start = static_cast<std::size_t>(std::find(whole_chain.begin(), whole_chain.end(), top) - whole_chain.begin());
+    while (start > 1 && !(*swept)[whole_chain[start - 1]]) --start;
   }
   const std::vector<NodeId> chain(whole_chain.begin() + static_cast<std::ptrdiff_t>(start - 1), whole_chain.end());
   Skeleton piece;

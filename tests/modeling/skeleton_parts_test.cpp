@@ -163,6 +163,16 @@ TEST(SkeletonParts, APieceStartsWhereTheMeshStopsHoldingItsChain) {
     EXPECT_NE(piece[v].position, s[20].position);
   }
   EXPECT_TRUE(fork_found);
+  // Two stretches left out of one chain, the mesh holding the one between: each is a piece of its
+  // own, from the node the mesh holds before it.
+  for (NodeId v = 27; v <= 29; ++v) swept[v] = 1;
+  std::vector<NodeId> upper;
+  piece_of(s, tree, 30, {}, &swept, &upper);
+  ASSERT_EQ(upper.size(), 11u);  // 30..40, not 26 again
+  EXPECT_EQ(upper.front(), 30u);
+  std::vector<NodeId> lower;
+  piece_of(s, tree, 26, {}, &swept, &lower);
+  EXPECT_EQ(lower, std::vector<NodeId>{26});
   // A top whose chain the mesh does not hold at all starts at its fork, as without the mask.
   std::vector<char> none(s.node_count(), 0);
   std::vector<NodeId> from_fork;
