@@ -46,10 +46,12 @@ Vector3d direction_along(const Skeleton& sk, const std::vector<NodeId>& nodes, d
 
 }  // namespace
 
-std::vector<NodeId> subtree(const std::vector<std::vector<NodeId>>& children, NodeId top) {
+std::vector<NodeId> subtree(const std::vector<std::vector<NodeId>>& children, NodeId top,
+                            const std::vector<char>* skip) {
   std::vector<NodeId> out{top};
   for (std::size_t i = 0; i < out.size(); ++i)
-    for (NodeId c : children[out[i]]) out.push_back(c);
+    for (NodeId c : children[out[i]])
+      if (!skip || !(*skip)[c]) out.push_back(c);
   return out;
 }
 
@@ -145,10 +147,7 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
   // forks outside the parent's tube when the parent bent, and the union had nothing to join.
   const NodeId fork = chain.front();
   // With all it carries but what the mesh holds (and all that carries).
-  std::vector<NodeId> branch{chain[1]};
-  for (std::size_t i = 0; i < branch.size(); ++i)
-    for (NodeId c : tree.children[branch[i]])
-      if (!swept || !(*swept)[c]) branch.push_back(c);
+  std::vector<NodeId> branch = subtree(tree.children, chain[1], swept);
   // Toward the parent, or at a root with several branches, toward the thickest other one.
   NodeId toward = tree.parent[fork];
   const bool down = toward == fork;

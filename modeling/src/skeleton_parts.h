@@ -14,8 +14,10 @@
 
 namespace treeskel::modeling::detail {
 
-/// Nodes of the subtree hanging from `top` (with `top`).
-std::vector<NodeId> subtree(const std::vector<std::vector<NodeId>>& children, NodeId top);
+/// Nodes of the subtree hanging from `top` (with `top`), breadth first; with `skip`, without the
+/// nodes it marks below `top` and all they carry.
+std::vector<NodeId> subtree(const std::vector<std::vector<NodeId>>& children, NodeId top,
+                            const std::vector<char>* skip = nullptr);
 
 /// A branch that leaves a thicker one at less than `min_angle` (radians) runs inside it for a while,
 /// and a hull joining the two would be a long fin. Such a branch is re-attached where it comes out of

@@ -24,6 +24,11 @@ TEST(SkeletonParts, SubtreeHoldsTheTopAndAllItCarries) {
   EXPECT_EQ(subtree(tree.children, 21).size(), 20u);
   EXPECT_EQ(subtree(tree.children, s.root).size(), s.node_count());
   EXPECT_EQ(subtree(tree.children, 40), std::vector<NodeId>{40});  // a tip
+  std::vector<char> skip(s.node_count(), 0);
+  skip[30] = 1;  // with all it carries: 21..29 are left of the arm
+  EXPECT_EQ(subtree(tree.children, 21, &skip).size(), 9u);
+  skip[21] = 1;  // the top itself is never skipped
+  EXPECT_EQ(subtree(tree.children, 21, &skip).size(), 9u);
 }
 
 TEST(SkeletonParts, PathOfCopiesPositionsAndRadiiInOrder) {
@@ -122,12 +127,8 @@ TEST(SkeletonParts, APieceLeavesOutWhatTheMeshHolds) {
   for (NodeId v = 61; v <= sub_tip; ++v) swept[v] = 1;  // the branch on arm 1, hung elsewhere
   std::vector<NodeId> members;
   const Skeleton piece = piece_of(s, tree, 21, {}, &swept, &members);
-  std::vector<NodeId> arm(10);
-  std::iota(arm.begin(), arm.end(), NodeId{21});  // 21..30: arm 1 up to the branch's fork
-  std::vector<NodeId> rest(10);
-  std::iota(rest.begin(), rest.end(), NodeId{31});  // 31..40: on from there
-  std::vector<NodeId> expected = arm;
-  expected.insert(expected.end(), rest.begin(), rest.end());
+  std::vector<NodeId> expected(20);
+  std::iota(expected.begin(), expected.end(), NodeId{21});  // arm 1, 21..40, without the branch on it
   std::sort(members.begin(), members.end());
   EXPECT_EQ(members, expected);
   EXPECT_TRUE(is_tree(piece.graph));
