@@ -299,11 +299,12 @@ std::vector<std::uint32_t> components_of(const Adjacency& adj) {
 
 /// Joins parts of the graph by their shortest links, Kruskal-style over the parts. Parts closer than
 /// `near` are joined whatever their size; parts of at least `min_points` points also when they are
-/// up to `far` apart (a branch cut off by an occlusion). Each part looks for its nearest foreign cell
-/// from up to `probes` of its cells, spread evenly over it, each looking at its nearest few hundred
-/// cells at most. Returns the links, each once, in the order they were chosen.
+/// up to `far` apart (a branch cut off by an occlusion). Each part looks for the nearest cell of each
+/// of the first `parts_per_probe` foreign parts it meets from up to `probes` of its cells, spread
+/// evenly over it, each looking at its nearest few hundred cells at most. Returns the links, each
+/// once, in the order they were chosen.
 std::vector<std::pair<std::uint32_t, std::uint32_t>> bridge_parts(const OctreeCells& cells, const Adjacency& adj, double near,
-                                                                  double far, std::size_t min_points) {
+                                                                  double far, std::size_t min_points, std::size_t parts_per_probe) {
   const std::size_t probes = 64;
   const std::size_t max_visits = 256;  // a probe deep inside its own part gives up; one near its edge does not
   const auto label = components_of(adj);
@@ -327,25 +328,28 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> bridge_parts(const OctreeCe
     const std::size_t stride = std::max<std::size_t>(1, part_cells[l] / probes);
     if (seen[l]++ % stride == 0) probe.push_back(static_cast<std::uint32_t>(c));
   }
-  std::vector<Link> found(probe.size(), Link{-1.0, 0, 0});
+  // Per probe, its links to the first parts it meets (NeighbourGraphOptions::bridge_parts_per_probe).
+  std::vector<std::vector<Link>> found(probe.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probe.size(), 16), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const auto c = probe[i];
       const bool big = part_points[label[c]] >= min_points;
       std::size_t visited = 0;
+      auto& met = found[i];
       nearest.visit(c, big ? far : near, [&](std::uint32_t o, double d) {
         if (visited++ >= max_visits) return false;
         if (label[o] == label[c]) return true;
         // A far link must land on a part that is large too: noise does not join across a gap.
         if (d > near && part_points[label[o]] < min_points) return true;
-        found[i] = Link{(cells.medians[c] - cells.medians[o]).norm(), c, o};
-        return false;
+        if (std::any_of(met.begin(), met.end(), [&](const Link& l) { return label[std::get<2>(l)] == label[o]; }))
+          return true;  // that part's nearest cell came first
+        met.emplace_back((cells.medians[c] - cells.medians[o]).norm(), c, o);
+        return met.size() < parts_per_probe;
       });
     }
   });
   std::vector<Link> links;
-  for (const auto& f : found)
-    if (std::get<0>(f) >= 0.0) links.push_back(f);
+  for (const auto& f : found) links.insert(links.end(), f.begin(), f.end());
   std::sort(links.begin(), links.end());
   CellSets parts(adj.size());
   std::vector<std::pair<std::uint32_t, std::uint32_t>> added;
@@ -372,7 +376,8 @@ CellGraph build_neighbour_graph(const OctreeCells& cells, const NeighbourGraphOp
   const auto min_points = std::max(options.far_bridge_min_points,
                                    static_cast<std::size_t>(options.far_bridge_fraction * static_cast<double>(cells.point_order.size())));
   std::vector<std::pair<std::uint32_t, std::uint32_t>> links;
-  if (bridge > 0.0) links = bridge_parts(cells, adj, bridge, std::max(far, bridge), min_points);
+  if (bridge > 0.0)
+    links = bridge_parts(cells, adj, bridge, std::max(far, bridge), min_points, std::max<std::size_t>(options.bridge_parts_per_probe, 1));
   graph.bridges = links.size();
 
   const std::size_t n = adj.size();

@@ -161,6 +161,42 @@ TEST(NeighbourGraph, FarBridgingJoinsATwigPieceOfTenPointsButNotFewerStrayPoints
   EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 2u);
 }
 
+TEST(NeighbourGraph, PiecesNearerEachOtherThanTheTreeAreJoinedToTheTreeToo) {
+  // A line of cells along z (the tree), piece A 4 cells beside it and piece B 2 cells beyond A, 6
+  // from the tree: within the far bridge (5) A reaches both, B only A. Every probe of A meets B
+  // first; linked to the first foreign part alone, A and B joined each other and not the tree.
+  PointCloud cloud;
+  const auto put = [&](const Eigen::Vector3i& g) {
+    for (int i = 0; i < 3; ++i) cloud.positions.push_back(g.cast<double>() + Eigen::Vector3d(0.3 + 0.2 * i, 0.5, 0.5));
+  };
+  for (int z = 0; z < 31; ++z) put({8, 8, z});
+  for (int z = 15; z < 18; ++z) put({12, 8, z});  // A
+  for (int z = 15; z < 18; ++z) put({14, 8, z});  // B
+  cloud.positions.emplace_back(0.0, 0.0, 0.0);
+  cloud.positions.emplace_back(32.0, 32.0, 32.0);
+  const OctreeCells cells = cells_at_depth(cloud, 5);
+  ASSERT_DOUBLE_EQ(cells.cell_size, 1.0);
+  NeighbourGraphOptions g;
+  g.bridge_distance = 1.5;
+  g.far_bridge_distance = 5.0;
+  const CellGraph graph = build_neighbour_graph(cells, g);
+  EXPECT_EQ(graph.bridges, 2u);
+  const auto id = connected_components(graph);
+  const auto trunk = id[cells.find({8, 8, 16})];
+  EXPECT_EQ(id[cells.find({12, 8, 16})], trunk);
+  EXPECT_EQ(id[cells.find({14, 8, 16})], trunk);
+  const MainPart main = select_main_part(cells, graph, g);
+  EXPECT_EQ(main.left_out.total(), 2u);  // the two pins
+
+  // Linked to the first part each probe meets, as before: A and B join each other, not the tree.
+  g.bridge_parts_per_probe = 1;
+  const CellGraph first_only = build_neighbour_graph(cells, g);
+  EXPECT_EQ(first_only.bridges, 1u);
+  const auto apart = connected_components(first_only);
+  EXPECT_EQ(apart[cells.find({12, 8, 16})], apart[cells.find({14, 8, 16})]);
+  EXPECT_NE(apart[cells.find({12, 8, 16})], apart[cells.find({8, 8, 16})]);
+}
+
 TEST(NeighbourGraph, SparseCellsOfAGrownCubeNeighbourCellsTwoApart) {
   // Lines of cells one empty cell apart along x, on a cube grown by 1.25 (cells 1.25 wide at depth
   // 4 over a cloud 16 wide): one point a cell (sparse: fewer than 2 on average) joins up; three
