@@ -44,12 +44,15 @@ TEST_P(AccuracyRegression, KeepsItsScores) {
 
 // Measured when set (defaults of 2 points a cell and spur pruning within 1.75 radii): tree2_16647 SPD
 // 0.0010, BPC/EPC/precisions 1.0; tree1_noise_2 0.0024, 1.0, 1.0, 0.79, 0.76; tree4_missing_1 0.0034,
-// 0.94, 0.94, 0.90, 0.98; tree3_vdensity_1 0.0019, 1.0, 1.0, 0.96, 0.96.
+// 0.94, 0.94, 0.90, 0.98; tree3_vdensity_1 0.0019, 1.0, 1.0, 0.96, 0.96. tree2_missing_2, whose
+// occlusion cuts the crown into pieces nearer one another than the tree (bridging in rounds, 5
+// December 2026): 0.0035, 0.909, 0.923, 0.769, 0.800 (SPD 0.145 and BPC 0.273 with one round).
 INSTANTIATE_TEST_SUITE_P(Benchmark, AccuracyRegression,
                          ::testing::Values(Expectation{"tree2_16647", 0.003, 0.9, 0.9, 0.9, 0.9},
                                            Expectation{"tree1_noise_2", 0.005, 0.9, 0.9, 0.7, 0.65},
                                            Expectation{"tree4_missing_1", 0.007, 0.85, 0.85, 0.8, 0.85},
-                                           Expectation{"tree3_vdensity_1", 0.004, 0.9, 0.9, 0.85, 0.85}),
+                                           Expectation{"tree3_vdensity_1", 0.004, 0.9, 0.9, 0.85, 0.85},
+                                           Expectation{"tree2_missing_2", 0.01, 0.8, 0.8, 0.65, 0.7}),
                          [](const auto& info) { return std::string(info.param.cloud); });
 
 // The harder sets of eval/hard_trees.h (seed 1): today's scores less a margin, so that work on crowded
@@ -57,7 +60,8 @@ INSTANTIATE_TEST_SUITE_P(Benchmark, AccuracyRegression,
 // set: crowded6_44003 SPD 0.003, BPC 0.845, EPC 0.730, precisions 0.875 / 1.0; sparse60_2views_4113
 // 0.004, 0.917, 0.927, 0.743, 0.894; tree4_all 0.009, 0.877, 0.851, 0.814, 0.860. With cell sizes
 // between two depths (OctreeOptions::depth_steps): crowded5_23011 0.004, 0.473, 0.390, 0.981, 1.0
-// (0.236 and 0.227 with whole depths); tree4_all 0.005, 0.892, 0.839, 0.744, 0.811.
+// (0.236 and 0.227 with whole depths); tree4_all 0.005, 0.892, 0.839, 0.744, 0.811. With bridging in
+// rounds: sparse60_1view_5793 0.008, 0.745, 0.720, 0.804, 0.900 (SPD 0.074, BPC 0.564 with one).
 class HardAccuracyRegression : public ::testing::TestWithParam<Expectation> {};
 
 TEST_P(HardAccuracyRegression, KeepsItsScores) {
@@ -82,6 +86,7 @@ INSTANTIATE_TEST_SUITE_P(HarderSets, HardAccuracyRegression,
                          ::testing::Values(Expectation{"crowded6_44003", 0.006, 0.78, 0.66, 0.8, 0.9},
                                            Expectation{"crowded5_23011", 0.006, 0.42, 0.34, 0.9, 0.9},
                                            Expectation{"sparse60_2views_4113", 0.008, 0.85, 0.85, 0.65, 0.8},
+                                           Expectation{"sparse60_1view_5793", 0.02, 0.65, 0.65, 0.7, 0.8},
                                            Expectation{"tree4_all", 0.014, 0.8, 0.78, 0.7, 0.75}),
                          [](const auto& info) { return std::string(info.param.cloud); });
 

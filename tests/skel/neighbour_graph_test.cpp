@@ -164,7 +164,7 @@ TEST(NeighbourGraph, FarBridgingJoinsATwigPieceOfTenPointsButNotFewerStrayPoints
 TEST(NeighbourGraph, PiecesNearerEachOtherThanTheTreeAreJoinedToTheTreeToo) {
   // A line of cells along z (the tree), piece A 4 cells beside it and piece B 2 cells beyond A, 6
   // from the tree: within the far bridge (5) A reaches both, B only A. Every probe of A meets B
-  // first; linked to the first foreign part alone, A and B joined each other and not the tree.
+  // first, so the first round joins A and B; the second, A and B as one, joins them to the tree.
   PointCloud cloud;
   const auto put = [&](const Eigen::Vector3i& g) {
     for (int i = 0; i < 3; ++i) cloud.positions.push_back(g.cast<double>() + Eigen::Vector3d(0.3 + 0.2 * i, 0.5, 0.5));
@@ -188,8 +188,8 @@ TEST(NeighbourGraph, PiecesNearerEachOtherThanTheTreeAreJoinedToTheTreeToo) {
   const MainPart main = select_main_part(cells, graph, g);
   EXPECT_EQ(main.left_out.total(), 2u);  // the two pins
 
-  // Linked to the first part each probe meets, as before: A and B join each other, not the tree.
-  g.bridge_parts_per_probe = 1;
+  // In one round, as before: A and B join each other, not the tree.
+  g.bridge_rounds = 1;
   const CellGraph first_only = build_neighbour_graph(cells, g);
   EXPECT_EQ(first_only.bridges, 1u);
   const auto apart = connected_components(first_only);

@@ -37,11 +37,10 @@ Skeleton extract_bundled_skeleton(const std::string& name) {
   SkeletonOptions options;
   if (whole_depths) {
     // The skeleton the cases of the tests that use it were found on: whole depths, far bridging of
-    // parts of ten points or more, each probe linking to the first part it meets (the defaults
-    // until 5 December 2026).
+    // parts of ten points or more, bridging in one round (the defaults until 5 December 2026).
     options.octree.depth_steps = 1;
     options.graph.far_bridge_min_points = 10;
-    options.graph.bridge_parts_per_probe = 1;
+    options.graph.bridge_rounds = 1;
   }
   Skeleton s = extract_skeleton(cloud, options);
   modeling::fit_radii(s, &cloud);

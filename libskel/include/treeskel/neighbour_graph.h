@@ -43,11 +43,12 @@ struct NeighbourGraphOptions {
   /// bridging of smaller parts").
   std::size_t far_bridge_min_points = 3;
   double far_bridge_fraction = 0.0;
-  /// Bridging probes a part from a few of its cells; each probe links to the nearest cell of each of
-  /// the first this many other parts it meets. With 1 (before 5 December 2026), pieces of a crown that
-  /// an occlusion cut off, nearer one another than the tree, joined one another and not the tree: the
-  /// benchmark's tree2_missing_2 left 45% of its points out (docs/accuracy.md, Missing data).
-  std::size_t bridge_parts_per_probe = 4;
+  /// Bridging runs in rounds: each part not joined to the tree (the largest part) yet links to the
+  /// nearest other part its probes meet, the parts joined so far counting as one, until a round
+  /// joins nothing or this many have run. With 1 (before 5 December 2026), pieces of a crown that an
+  /// occlusion cut off, nearer one another than the tree, joined one another and not the tree: the
+  /// benchmark's tree2_missing_2 left 45% of its points out (README, Accuracy).
+  std::size_t bridge_rounds = 16;
   /// After bridging, a part that is not the tree and holds fewer than this share of the points is
   /// reported as a small isolated cluster (noise); a larger one as a far part. Both are left out.
   double small_cluster_fraction = 0.01;
