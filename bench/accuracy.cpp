@@ -403,7 +403,9 @@ int main(int argc, char** argv) {
        << "3. **Far bridging** (`NeighbourGraphOptions::far_bridge_distance`): parts holding at least "
        << NeighbourGraphOptions{}.far_bridge_min_points
        << " points are joined across gaps up to a tenth of the cloud's size, so a branch or twig cut off by an "
-          "occlusion is not lost (this is what moves SPD on the missing-data clouds).\n"
+          "occlusion is not lost (this is what moves SPD on the missing-data clouds); bridging runs in rounds "
+          "(`bridge_rounds`), so that pieces of a crown nearer one another than the tree, joined to one another "
+          "first, are then joined to the tree.\n"
        << "4. **CPC guarded** (`cpc.h`): moves only across the branch, only onto a cylinder-like slice.\n"
        << "5. **Spur pruning** (`prune.h`, a leaf branch that stays within " << PruneOptions{}.radius_factor
        << " radii of its host goes) and **fork placement** (`junction.h`): they trade a little recall for much "
