@@ -320,14 +320,33 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> bridge_parts(const OctreeCe
 
   const NearestCells nearest(cells);
   using Link = std::tuple<double, std::uint32_t, std::uint32_t>;
-  // Probe cells: every cell of small parts, an even selection of the cells of large ones.
+  // Probe cells: every cell of a small part; of a large one, an even selection of its cells and
+  // another of the quarter of its cells with the fewest neighbours: its rim, where a gap cut it off.
+  // (Spread over all its cells alone, the probes of a piece of 1,848 cells lay deep inside it and met
+  // their 256 cells before any other part: the benchmark's tree6_missing_2 left 5,014 of its points
+  // out. From the rim alone, other parts were joined by longer links: AdTree's tree33 lost 0.03 of
+  // its points within 2% of its height from the model.)
   std::vector<std::uint32_t> probe;
   std::vector<std::size_t> seen(adj.size(), 0);
+  std::vector<std::tuple<std::uint32_t, std::size_t, std::uint32_t>> large;  // (part, neighbours, cell)
   for (std::size_t c = 0; c < adj.size(); ++c) {
     const auto l = label[c];
     if (l == largest) continue;
+    const auto cell = static_cast<std::uint32_t>(c);
     const std::size_t stride = std::max<std::size_t>(1, part_cells[l] / probes);
-    if (seen[l]++ % stride == 0) probe.push_back(static_cast<std::uint32_t>(c));
+    const bool even = seen[l]++ % stride == 0;
+    if (part_cells[l] > probes) large.emplace_back(l, static_cast<std::size_t>(adj.end(c) - adj.begin(c)), cell);
+    if (even) probe.push_back(cell);
+  }
+  std::sort(large.begin(), large.end());
+  std::vector<std::uint32_t> rim;
+  for (std::size_t i = 0, j = 0; i < large.size(); i = j) {
+    while (j < large.size() && std::get<0>(large[j]) == std::get<0>(large[i])) ++j;
+    rim.clear();
+    for (std::size_t k = i; k < i + std::max(probes, (j - i) / 4); ++k) rim.push_back(std::get<2>(large[k]));
+    std::sort(rim.begin(), rim.end());
+    const std::size_t stride = std::max<std::size_t>(1, rim.size() / probes);
+    for (std::size_t k = 0; k < rim.size(); k += stride) probe.push_back(rim[k]);
   }
   CellSets parts(adj.size());
   std::vector<std::pair<std::uint32_t, std::uint32_t>> added;
