@@ -15,6 +15,12 @@ PointCloud grid_points(const std::vector<Eigen::Vector3i>& cells_at, int extent)
   return c;
 }
 
+/// Adds `n` points (at most 10) inside the unit grid cell `g`, none repeating another.
+void put_points(PointCloud& cloud, const Eigen::Vector3i& g, int n) {
+  for (int i = 0; i < n; ++i)
+    cloud.positions.push_back(g.cast<double>() + Eigen::Vector3d(0.3 + 0.04 * i, 0.5, 0.7 - 0.04 * i));
+}
+
 /// The octree cells of `cloud` at `depth`.
 OctreeCells cells_at_depth(const PointCloud& cloud, int depth) {
   OctreeOptions o;
@@ -119,14 +125,10 @@ TEST(NeighbourGraph, FarBridgingJoinsATwigPieceOfTenPointsButNotFewerStrayPoints
   // A line of cells along z (3 points each), a twig piece of 10 points 4 cells beside it, and 9
   // stray points 4 cells beside it elsewhere: beyond the near bridge (2.5), within the far one (5).
   PointCloud cloud;
-  const auto put = [&](const Eigen::Vector3i& g, int n) {
-    for (int i = 0; i < n; ++i)
-      cloud.positions.push_back(g.cast<double>() + Eigen::Vector3d(0.3 + 0.04 * i, 0.5, 0.7 - 0.04 * i));
-  };
-  for (int z = 0; z < 31; ++z) put({8, 8, z}, 3);
-  put({12, 8, 15}, 5);  // the twig piece: two cells, 10 points
-  put({13, 8, 15}, 5);
-  put({8, 12, 25}, 9);  // the stray points
+  for (int z = 0; z < 31; ++z) put_points(cloud, {8, 8, z}, 3);
+  put_points(cloud, {12, 8, 15}, 5);  // the twig piece: two cells, 10 points
+  put_points(cloud, {13, 8, 15}, 5);
+  put_points(cloud, {8, 12, 25}, 9);  // the stray points
   cloud.positions.emplace_back(0.0, 0.0, 0.0);
   cloud.positions.emplace_back(32.0, 32.0, 32.0);
   const OctreeCells cells = cells_at_depth(cloud, 5);
@@ -166,12 +168,9 @@ TEST(NeighbourGraph, PiecesNearerEachOtherThanTheTreeAreJoinedToTheTreeToo) {
   // from the tree: within the far bridge (5) A reaches both, B only A. Every probe of A meets B
   // first, so the first round joins A and B; the second, A and B as one, joins them to the tree.
   PointCloud cloud;
-  const auto put = [&](const Eigen::Vector3i& g) {
-    for (int i = 0; i < 3; ++i) cloud.positions.push_back(g.cast<double>() + Eigen::Vector3d(0.3 + 0.2 * i, 0.5, 0.5));
-  };
-  for (int z = 0; z < 31; ++z) put({8, 8, z});
-  for (int z = 15; z < 18; ++z) put({12, 8, z});  // A
-  for (int z = 15; z < 18; ++z) put({14, 8, z});  // B
+  for (int z = 0; z < 31; ++z) put_points(cloud, {8, 8, z}, 3);
+  for (int z = 15; z < 18; ++z) put_points(cloud, {12, 8, z}, 3);  // A
+  for (int z = 15; z < 18; ++z) put_points(cloud, {14, 8, z}, 3);  // B
   cloud.positions.emplace_back(0.0, 0.0, 0.0);
   cloud.positions.emplace_back(32.0, 32.0, 32.0);
   const OctreeCells cells = cells_at_depth(cloud, 5);
