@@ -22,6 +22,9 @@ constexpr double kStubReach = 4.0;
 constexpr int kStubNodes = 8;
 /// At most this many points along a segment are tested for whether a piece's tube meets a mesh.
 constexpr int kMeetSamples = 32;
+/// Grid points a side, from the fork out, searched for where to end the stub of a piece that meets
+/// the parent's mesh nowhere.
+constexpr int kStubGrid = 4;
 
 /// Distance from `p` to the polyline through `nodes`.
 double distance_to_polyline(const Skeleton& sk, const std::vector<NodeId>& nodes, const Vector3d& p) {
@@ -231,6 +234,27 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
           break;
         }
       }
+    }
+    // Neither: the mesh the parent went into passes the fork by (the parent's tube thinned by the
+    // repair, around a skeleton that wanders in it), and a piece that meets it nowhere was written
+    // beside the tree (a limb of the LPine1 plot's tree 4 at a fork of its stem 3.4 cm outside the
+    // stem's thinned tube). The stub then goes straight from the fork to the nearest point a stub's
+    // radius deep in the mesh, of a grid of points as near the fork as the stub could follow the
+    // parent (four fork radii, not past the fork below).
+    if (depth && !down && !path.empty() && walked > 0.0 && !meets()) {
+      const double step = walked / kStubGrid;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (int x = -kStubGrid; x <= kStubGrid; ++x)
+        for (int y = -kStubGrid; y <= kStubGrid; ++y)
+          for (int z = -kStubGrid; z <= kStubGrid; ++z) {
+            const Vector3d offset = step * Vector3d(x, y, z);
+            const double distance = offset.norm();
+            if (distance > walked * (1.0 + 1e-9) || distance >= nearest) continue;
+            if (depth(at_fork + offset) >= radius) {
+              nearest = distance;
+              path.assign(1, at_fork + offset);
+            }
+          }
     }
     for (const Vector3d& position : path) {
       SkeletonNode node;

@@ -36,7 +36,10 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
 /// With `depth` (how deep a point lies in the mesh the parent was swept into: negative outside), a
 /// piece whose tubes would meet that mesh nowhere (no point of its axis within its radius of it) has
 /// its stub follow the parent's path on, node by node, to the first node that lies the stub's
-/// radius deep in it (at most 8 nodes, not past the fork below).
+/// radius deep in it (at most 8 nodes, not past the fork below); failing that, its stub goes
+/// straight from the fork to the nearest point a stub's radius deep in that mesh, of a grid of
+/// points as near the fork as the stub could follow the parent (four fork radii, not past the fork
+/// below); failing that too, it stays as it was.
 /// With `swept` (by node: whether the mesh the piece is to be united with holds it), the piece
 /// leaves out what that mesh holds, with all it carries, and starts at the last node before `top`
 /// on its chain that the mesh holds: a branch the sweep re-attached elsewhere stays in the mesh and

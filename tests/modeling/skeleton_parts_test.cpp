@@ -293,6 +293,34 @@ TEST(SkeletonParts, AStubGoesOnAlongItsParentToWhereTheMeshHoldsIt) {
   EXPECT_EQ(stays[stays.root].position, stays_plain[stays_plain.root].position);
 }
 
+// Where the parent's path holds no node deep in the mesh but the mesh passes the fork by within the
+// stub's reach (four fork radii, not past the fork below), the stub goes straight from the fork to
+// the nearest point a stub's radius deep in it: a piece that met the mesh nowhere lay beside the
+// tree, a second component (a limb of the LPine1 plot's tree 4).
+TEST(SkeletonParts, AStubGoesStraightIntoAMeshThatPassesTheForkBy) {
+  Skeleton s = test::straight(1.0, 0.05, 20);
+  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
+  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
+  const NodeId tip = test::add_run(s, fork, Eigen::Vector3d(0.5, 0, 1.5), 0.02, 20);
+  const ChainTree tree = build_chains(s);
+  const Skeleton plain = piece_of(s, tree, tip);
+  const double radius = plain[plain.root].radius;
+  // A ball of radius 0.1 centred 0.25 beside the fork: 0.15 from it, within 4 x 0.05; the parent's
+  // nodes (under the fork) and the branch's tubes stay outside it.
+  const Eigen::Vector3d centre(0.25, 0, 1.0);
+  auto ball = [centre](double r) { return [centre, r](const Eigen::Vector3d& p) { return r - (p - centre).norm(); }; };
+  const Skeleton piece = piece_of(s, tree, tip, ball(0.1));
+  EXPECT_TRUE(is_tree(piece.graph));
+  EXPECT_EQ(piece.node_count(), 1u + 1u + 20u);  // one stub node, the fork, the branch's 20
+  // Of a grid of points 0.05 apart around the fork, the nearest one a stub's radius deep.
+  EXPECT_NEAR((piece[piece.root].position - Eigen::Vector3d(0.2, 0, 1.0)).norm(), 0.0, 1e-12);
+  EXPECT_GE(ball(0.1)(piece[piece.root].position), radius);
+  EXPECT_DOUBLE_EQ(piece[piece.root].radius, radius);
+  // A ball too thin to hold a stub's radius: as it was.
+  const Skeleton thin = piece_of(s, tree, tip, ball(0.015));
+  EXPECT_EQ(thin[thin.root].position, plain[plain.root].position);
+}
+
 TEST(SkeletonParts, ANarrowBranchIsReattachedWhereItLeavesTheThickerOne) {
   // One arm 0.1 rad (6 degrees) off the trunk's line, the other 0.6 rad: the narrow one runs inside
   // the thicker continuation for a while.
