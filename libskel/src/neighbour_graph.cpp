@@ -326,16 +326,16 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> bridge_parts(const OctreeCe
   // of a piece of 1,848 cells lay deep inside it and met their 256 cells before any other part: the
   // benchmark's tree6_missing_2 left 5,014 of its points out.)
   std::vector<std::uint32_t> probe;
+  // Whether the next of the `count` items of group `key` is one of `probes` spread evenly over them.
   std::vector<std::size_t> seen(adj.size(), 0);
+  const auto spread = [&](std::size_t key, std::size_t count) { return seen[key]++ % std::max<std::size_t>(1, count / probes) == 0; };
   std::vector<std::tuple<std::uint32_t, std::size_t, std::uint32_t>> large;  // (part, neighbours, cell)
   for (std::size_t c = 0; c < adj.size(); ++c) {
     const auto l = label[c];
     if (l == largest) continue;
     const auto cell = static_cast<std::uint32_t>(c);
-    const std::size_t stride = std::max<std::size_t>(1, part_cells[l] / probes);
-    const bool even = seen[l]++ % stride == 0;
     if (part_cells[l] > probes) large.emplace_back(l, static_cast<std::size_t>(adj.end(c) - adj.begin(c)), cell);
-    if (even) probe.push_back(cell);
+    if (spread(l, part_cells[l])) probe.push_back(cell);
   }
   std::sort(large.begin(), large.end());
   std::vector<std::uint32_t> rim;
@@ -393,10 +393,8 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> bridge_parts(const OctreeCe
       }
     std::fill(seen.begin(), seen.end(), 0);
     active.clear();
-    for (std::uint32_t c : again) {
-      const auto g = parts_of(c);
-      if (seen[g]++ % std::max<std::size_t>(1, count[g] / probes) == 0) active.push_back(c);
-    }
+    for (std::uint32_t c : again)
+      if (spread(parts_of(c), count[parts_of(c)])) active.push_back(c);
   }
   return added;
 }

@@ -224,6 +224,7 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
       std::vector<Vector3d> longer;
       double thinner = radius;
       int nodes = 0;
+      bool deep = false;
       for (NodeId at = fork, next = toward; on_branch(at, next) && nodes < kStubNodes; at = next, next = next_of(at), ++nodes) {
         const Vector3d& p = skeleton[next].position;
         thinner = std::min(thinner, 0.5 * skeleton[next].radius);
@@ -231,30 +232,31 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
         if (!longer.empty() && depth(longer.back()) >= thinner) {
           path = std::move(longer);
           radius = thinner;
+          deep = true;
           break;
         }
       }
-    }
-    // Neither: the mesh the parent went into passes the fork by (the parent's tube thinned by the
-    // repair, around a skeleton that wanders in it), and a piece that meets it nowhere was written
-    // beside the tree (a limb of the LPine1 plot's tree 4 at a fork of its stem 3.4 cm outside the
-    // stem's thinned tube). The stub then goes straight from the fork to the nearest point a stub's
-    // radius deep in the mesh, of a grid of points as near the fork as the stub could follow the
-    // parent (four fork radii, not past the fork below).
-    if (depth && !down && !path.empty() && walked > 0.0 && !meets()) {
-      const double step = walked / kStubGrid;
-      double nearest = std::numeric_limits<double>::infinity();
-      for (int x = -kStubGrid; x <= kStubGrid; ++x)
-        for (int y = -kStubGrid; y <= kStubGrid; ++y)
-          for (int z = -kStubGrid; z <= kStubGrid; ++z) {
-            const Vector3d offset = step * Vector3d(x, y, z);
-            const double distance = offset.norm();
-            if (distance > walked * (1.0 + 1e-9) || distance >= nearest) continue;
-            if (depth(at_fork + offset) >= radius) {
-              nearest = distance;
-              path.assign(1, at_fork + offset);
+      // Failing that, the mesh the parent went into passes the fork by (the parent's tube thinned by
+      // the repair, around a skeleton that wanders in it), and a piece that met it nowhere was
+      // written beside the tree (a limb of the LPine1 plot's tree 4 at a fork of its stem 3.4 cm
+      // outside the stem's thinned tube). The stub then goes straight from the fork to the nearest
+      // point a stub's radius deep in the mesh, of a grid of points as near the fork as the stub
+      // could follow the parent (four fork radii, not past the fork below).
+      if (!deep && walked > 0.0) {
+        const double step = walked / kStubGrid;
+        double nearest = std::numeric_limits<double>::infinity();
+        for (int x = -kStubGrid; x <= kStubGrid; ++x)
+          for (int y = -kStubGrid; y <= kStubGrid; ++y)
+            for (int z = -kStubGrid; z <= kStubGrid; ++z) {
+              const Vector3d offset = step * Vector3d(x, y, z);
+              const double distance = offset.norm();
+              if (distance > walked * (1.0 + 1e-9) || distance >= nearest) continue;
+              if (depth(at_fork + offset) >= radius) {
+                nearest = distance;
+                path.assign(1, at_fork + offset);
+              }
             }
-          }
+      }
     }
     for (const Vector3d& position : path) {
       SkeletonNode node;

@@ -28,6 +28,13 @@ OctreeCells cells_at_depth(const PointCloud& cloud, int depth) {
   return build_octree_cells(cloud, o);
 }
 
+/// The octree cells of `cloud` with corner points pinning its cube to [0, 32]: cells 1 wide at depth 5.
+OctreeCells pinned_unit_cells(PointCloud cloud) {
+  cloud.positions.emplace_back(0.0, 0.0, 0.0);
+  cloud.positions.emplace_back(32.0, 32.0, 32.0);
+  return cells_at_depth(cloud, 5);
+}
+
 TEST(NeighbourGraph, OctreeAdjacencyIsTheTwentySixNeighbourhood) {
   std::vector<Eigen::Vector3i> block;
   for (int z = 4; z < 7; ++z)
@@ -129,9 +136,7 @@ TEST(NeighbourGraph, FarBridgingJoinsATwigPieceOfTenPointsButNotFewerStrayPoints
   put_points(cloud, {12, 8, 15}, 5);  // the twig piece: two cells, 10 points
   put_points(cloud, {13, 8, 15}, 5);
   put_points(cloud, {8, 12, 25}, 9);  // the stray points
-  cloud.positions.emplace_back(0.0, 0.0, 0.0);
-  cloud.positions.emplace_back(32.0, 32.0, 32.0);
-  const OctreeCells cells = cells_at_depth(cloud, 5);
+  const OctreeCells cells = pinned_unit_cells(cloud);
   ASSERT_DOUBLE_EQ(cells.cell_size, 1.0);
   NeighbourGraphOptions g;
   g.bridge_distance = 2.5;
@@ -171,9 +176,7 @@ TEST(NeighbourGraph, PiecesNearerEachOtherThanTheTreeAreJoinedToTheTreeToo) {
   for (int z = 0; z < 31; ++z) put_points(cloud, {8, 8, z}, 3);
   for (int z = 15; z < 18; ++z) put_points(cloud, {12, 8, z}, 3);  // A
   for (int z = 15; z < 18; ++z) put_points(cloud, {14, 8, z}, 3);  // B
-  cloud.positions.emplace_back(0.0, 0.0, 0.0);
-  cloud.positions.emplace_back(32.0, 32.0, 32.0);
-  const OctreeCells cells = cells_at_depth(cloud, 5);
+  const OctreeCells cells = pinned_unit_cells(cloud);
   ASSERT_DOUBLE_EQ(cells.cell_size, 1.0);
   NeighbourGraphOptions g;
   g.bridge_distance = 1.5;
