@@ -4,6 +4,7 @@
 #include "treeskel/error.h"
 #include "treeskel/geometry.h"
 #include "treeskel/modeling/chains.h"
+#include "hull.h"
 #include "mesh_union.h"
 #include "pieces.h"
 #include "skeleton_parts.h"
@@ -12,7 +13,6 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/box_intersection_d.h>
-#include <CGAL/convex_hull_3.h>
 #include <CGAL/intersections.h>
 #include <Eigen/Geometry>
 #include <tbb/parallel_invoke.h>
@@ -752,7 +752,6 @@ class Builder {
   void hull_faces(const std::vector<Ring>& rings, const std::vector<std::size_t>& first_vertex,
                   const std::vector<std::pair<Vector3d, std::size_t>>& extra, std::size_t optional, NodeId top,
                   double radius, AddFace& add_face, Attempt& attempt) const {
-    using K = CGAL::Exact_predicates_inexact_constructions_kernel;
     // The join's points, and each one's vertex id and ring.
     std::vector<double> key;
     std::vector<std::size_t> id, ring_of;
@@ -774,33 +773,15 @@ class Builder {
     // Repair rounds leave most joins as they were: their hulls are computed once.
     auto cached = hulls_->find(key);
     if (cached == hulls_->end()) {
-      std::vector<K::Point_3> points;
-      std::map<std::array<double, 3>, std::size_t> index;  // point -> its position in `points`
-      for (std::size_t i = 0; i < id.size(); ++i) {
-        points.emplace_back(key[3 * i], key[3 * i + 1], key[3 * i + 2]);
-        index[{key[3 * i], key[3 * i + 1], key[3 * i + 2]}] = i;
-      }
-      CGAL::Surface_mesh<K::Point_3> hull;
-      CGAL::convex_hull_3(points.begin(), points.end(), hull);
+      std::vector<Vector3d> points;
+      for (std::size_t i = 0; i < id.size(); ++i) points.emplace_back(key[3 * i], key[3 * i + 1], key[3 * i + 2]);
+      auto faces = detail::convex_hull_faces(points, ring_of);
+      std::vector<char> corner(points.size(), 0);
+      for (const auto& f : faces)
+        for (std::size_t i : f) corner[i] = 1;
       std::optional<std::vector<std::array<std::size_t, 3>>> corners;
-      std::size_t kept = 0;  // of the points that must be corners
-      for (auto v : hull.vertices()) {
-        const auto& p = hull.point(v);
-        kept += index.at({p.x(), p.y(), p.z()}) < required ? 1 : 0;
-      }
-      if (kept == required) {
-        corners.emplace();
-        for (auto f : hull.faces()) {
-          std::array<std::size_t, 3> corner{};
-          int k = 0;
-          for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
-            if (k == 3) break;
-            const auto& p = hull.point(v);
-            corner[static_cast<std::size_t>(k++)] = index.at({p.x(), p.y(), p.z()});
-          }
-          corners->push_back(corner);
-        }
-      }
+      if (std::count(corner.begin(), corner.begin() + static_cast<std::ptrdiff_t>(required), 1) == static_cast<std::ptrdiff_t>(required))
+        corners = std::move(faces);
       cached = hulls_->emplace(std::move(key), std::move(corners)).first;
     }
     if (!cached->second) {  // points inside the hull: the rings do not fit
@@ -810,7 +791,7 @@ class Builder {
     std::vector<std::array<std::size_t, 3>> triangles;
     for (const auto& corner : *cached->second) {
       if (ring_of[corner[0]] == ring_of[corner[1]] && ring_of[corner[1]] == ring_of[corner[2]]) continue;  // a ring's own face
-      // Smallest vertex first, orientation kept: the hull's own face order is not reproducible.
+      // Smallest vertex first, orientation kept: the hull's own face order is not canonical.
       std::array<std::size_t, 3> tri{id[corner[0]], id[corner[1]], id[corner[2]]};
       std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
       triangles.push_back(tri);
