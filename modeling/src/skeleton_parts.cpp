@@ -8,6 +8,8 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
+#include <set>
 
 namespace treeskel::modeling::detail {
 
@@ -45,6 +47,62 @@ Vector3d direction_along(const Skeleton& sk, const std::vector<NodeId>& nodes, d
     }
   }
   return Vector3d::Zero();
+}
+
+/// The turn into the branch a stub may make at its fork, as the least cosine between the stub's
+/// direction and the branch's: 117 degrees, short of the 120 the tube drops (see tube.h).
+constexpr double kStubTurnCos = -0.45;
+
+/// Where a stub into the branch leaving `fork` along `ahead` may start, and how thick it may be:
+/// a point from which the stub turns by at most kStubTurnCos into the branch, within `reach` of the
+/// fork (as far as the stub could follow its parent: not past the fork below), inside the mesh
+/// `depth` measures. Of the nodes around the fork that the mesh holds (by
+/// `swept`; not the branch's, which `first` starts) and then of the points of a grid around it, the
+/// nearest that lies `radius` deep, with `radius`; failing that, the deepest, with its depth as the
+/// stub's radius; none if no such point is inside the mesh.
+std::optional<std::pair<Vector3d, double>> straight_stub(const Skeleton& skeleton, const ChainTree& tree, NodeId fork,
+                                                         NodeId first, const Vector3d& ahead, double radius, double reach,
+                                                         const DepthTest& depth, const std::vector<char>* swept) {
+  const Vector3d& at_fork = skeleton[fork].position;
+  if (!(reach > 0.0)) return std::nullopt;
+  std::optional<Vector3d> nearest, deepest;
+  double nearest_distance = std::numeric_limits<double>::infinity(), deepest_depth = 0.0;
+  auto consider = [&](const Vector3d& p) {
+    const Vector3d into = at_fork - p;
+    const double distance = into.norm();
+    if (distance > reach || into.dot(ahead) < kStubTurnCos * distance) return;
+    const double d = depth(p);
+    if (d >= radius && distance < nearest_distance) {
+      nearest_distance = distance;
+      nearest = p;
+    }
+    if (d > deepest_depth) {
+      deepest_depth = d;
+      deepest = p;
+    }
+  };
+  // The nodes around the fork, through the tree but not into the branch, while within reach.
+  std::vector<NodeId> todo{fork};
+  std::set<NodeId> seen{fork, first};
+  while (!todo.empty()) {
+    const NodeId v = todo.back();
+    todo.pop_back();
+    if (v != fork && (!swept || (*swept)[v])) consider(skeleton[v].position);
+    std::vector<NodeId> next = tree.children[v];
+    if (tree.parent[v] != v) next.push_back(tree.parent[v]);
+    for (NodeId w : next)
+      if ((skeleton[w].position - at_fork).norm() <= reach && seen.insert(w).second) todo.push_back(w);
+  }
+  if (!nearest) {
+    const double step = reach / kStubGrid;
+    for (int x = -kStubGrid; x <= kStubGrid; ++x)
+      for (int y = -kStubGrid; y <= kStubGrid; ++y)
+        for (int z = -kStubGrid; z <= kStubGrid; ++z)
+          if (x != 0 || y != 0 || z != 0) consider(at_fork + step * Vector3d(x, y, z));
+  }
+  if (nearest) return std::pair{*nearest, radius};
+  if (deepest) return std::pair{*deepest, deepest_depth};
+  return std::nullopt;
 }
 
 }  // namespace
@@ -193,6 +251,17 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
     if (from_stub.dot(ahead) < -0.5 * from_stub.norm()) {
       const Vector3d back = skeleton[toward].position - at_fork;
       path.assign(1, at_fork + back.normalized() * std::min(back.norm(), skeleton[fork].radius));
+      // That tube starts at the fork, or past it: where the fork lies less than the stub's radius
+      // deep in the parent's mesh (a tube thinned by the repair, a skeleton that wanders in it), it
+      // could meet the mesh nowhere, and the piece was written beside the tree (a 366-node limb of
+      // the LPine1 plot's tree 4 that ran back alongside its parent from a fork 2 mm inside the
+      // parent's tube). The stub then comes into the branch from the side or from behind, from
+      // inside the mesh (see straight_stub), thinner if the mesh is thin there.
+      if (depth && depth(at_fork) < radius)
+        if (const auto from = straight_stub(skeleton, tree, fork, chain[1], ahead, radius, walked, depth, swept)) {
+          path.assign(1, from->first);
+          radius = from->second;
+        }
     }
     // Whether the tube of radius r along a to b meets the mesh `depth` measures (its axis tested at
     // points half a radius apart).
@@ -256,6 +325,13 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
                 path.assign(1, at_fork + offset);
               }
             }
+        // No point of it that deep (the LPine1 plot's tree 13: a fork 2.4 cm outside its parent's
+        // thinned tube): a thinner stub from the deepest point around the fork (see straight_stub).
+        if (!std::isfinite(nearest))
+          if (const auto from = straight_stub(skeleton, tree, fork, chain[1], ahead, radius, walked, depth, swept)) {
+            path.assign(1, from->first);
+            radius = from->second;
+          }
       }
     }
     for (const Vector3d& position : path) {

@@ -196,7 +196,7 @@ TEST(Plot, ALimbOfAnLPine1PineIsSweptOnce) {
 // two threads wrote another GLB (15 triangles of one join): CGAL's convex hull split a flat face of
 // the join in an order that followed memory addresses, and which thread had run what before moved
 // them. (A run that differs only sometimes: three runs on two threads.)
-TEST(Plot, AnLPine1TreesModelIsTheSameOnOneThreadAndTwo) {
+TEST(Plot, LPine1TreesModelsAreOneComponentAndTheSameOnOneThreadAndTwo) {
   const test::TempDir dir;
   const std::string laz = TREESKEL_TEST_LAZ;
   const Result seg = run("plot " + quoted(laz) + " -o " + quoted(dir.path("out")) + " --segment-only");
@@ -211,6 +211,15 @@ TEST(Plot, AnLPine1TreesModelIsTheSameOnOneThreadAndTwo) {
   const std::string one = model(1, "one.glb");
   ASSERT_GT(one.size(), 100000u);
   for (int run_no = 0; run_no < 3; ++run_no) EXPECT_TRUE(model(2, "two.glb") == one) << "run " << run_no;
+  // Trees 4 and 13 each had a limb beside the tree, a second component: a branch that ran back along
+  // its parent from a fork 2 mm inside the parent's tube, and a fork 2.4 cm outside a thinned one.
+  for (const std::string id : {"004", "013"}) {
+    const std::string report = dir.path("r" + id + ".json");
+    const Result r = run("model " + quoted(dir.path("out/trees/tree_" + id + ".ply")) + " --wood-if-leafy -q -o " +
+                         quoted(dir.path("t.glb")) + " --report " + quoted(report));
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(read_json(report)["mesh"]["components"].get<int>(), 1) << "tree " << id;
+  }
 }
 
 TEST(Plot, ASyntheticPlotSegmentedOnly) {

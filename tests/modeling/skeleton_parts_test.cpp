@@ -316,9 +316,58 @@ TEST(SkeletonParts, AStubGoesStraightIntoAMeshThatPassesTheForkBy) {
   EXPECT_NEAR((piece[piece.root].position - Eigen::Vector3d(0.2, 0, 1.0)).norm(), 0.0, 1e-12);
   EXPECT_GE(ball(0.1)(piece[piece.root].position), radius);
   EXPECT_DOUBLE_EQ(piece[piece.root].radius, radius);
-  // A ball too thin to hold a stub's radius: as it was.
+  // A ball so thin that no point of the grid lies in it: as it was.
   const Skeleton thin = piece_of(s, tree, tip, ball(0.015));
   EXPECT_EQ(thin[thin.root].position, plain[plain.root].position);
+}
+
+// A mesh no point near the fork lies a stub's radius deep in (a parent's tube thinned by the repair
+// beside a fork 2.4 cm outside it: the LPine1 plot's tree 13): the stub comes from the deepest point
+// within reach, as thick as that point is deep, rather than leave the piece beside the tree.
+TEST(SkeletonParts, AStubIntoAThinMeshIsAsThinAsTheMeshIsDeep) {
+  Skeleton s = test::straight(1.0, 0.05, 20);
+  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
+  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
+  const NodeId tip = test::add_run(s, fork, Eigen::Vector3d(0.5, 0, 1.5), 0.02, 20);
+  const ChainTree tree = build_chains(s);
+  const Skeleton plain = piece_of(s, tree, tip);
+  // A rod of radius 0.012 along x = 0.04 up to z = 0.95: the parent's nodes (x = 0) and the branch
+  // (above the fork) lie outside it; the grid's points at x = 0.05 lie 0.002 deep.
+  auto rod = [](const Eigen::Vector3d& p) { return std::min(0.012 - std::hypot(p.x() - 0.04, p.y()), 0.95 - p.z()); };
+  const Skeleton piece = piece_of(s, tree, tip, rod);
+  EXPECT_TRUE(is_tree(piece.graph));
+  EXPECT_EQ(piece.node_count(), 1u + 1u + 20u);  // one stub node, the fork, the branch's 20
+  EXPECT_NEAR(piece[piece.root].position.x(), 0.05, 1e-12);
+  EXPECT_LT(piece[piece.root].position.z(), 0.95);
+  EXPECT_NEAR(piece[piece.root].radius, 0.002, 1e-9);
+  EXPECT_LT(piece[piece.root].radius, plain[plain.root].radius);
+}
+
+// A branch that runs back down along its parent from a fork that lies less than a stub's radius deep
+// in the parent's mesh: a stub back along the parent would turn by more than 120 degrees into it,
+// which the tube drops, and the piece met the mesh nowhere (a 366-node limb of the LPine1 plot's
+// tree 4). The stub comes from inside the mesh, from where it turns into the branch by less.
+TEST(SkeletonParts, AStubIntoABranchThatRunsBackAlongItsParentComesFromBehindTheFork) {
+  Skeleton s = test::straight(1.0, 0.05, 20);
+  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
+  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
+  const NodeId tip = test::add_run(s, fork, Eigen::Vector3d(0.1, 0, 0.5), 0.02, 20);
+  const ChainTree tree = build_chains(s);
+  const Skeleton plain = piece_of(s, tree, tip);
+  ASSERT_LT(plain[plain.root].position.z(), 1.0);  // back down the parent: a hairpin
+  // The parent's mesh, a rod of radius 0.01 along the z axis from 0 to 2: the fork lies 0.01 deep,
+  // under the stub's radius.
+  auto rod = [](const Eigen::Vector3d& p) { return std::min({0.01 - std::hypot(p.x(), p.y()), p.z(), 2.0 - p.z()}); };
+  const Skeleton piece = piece_of(s, tree, tip, rod);
+  EXPECT_TRUE(is_tree(piece.graph));
+  const Eigen::Vector3d from = piece[piece.root].position;
+  EXPECT_NEAR(std::hypot(from.x(), from.y()), 0.0, 1e-12);
+  EXPECT_GT(from.z(), 1.0);  // above the fork: the stub runs down into the branch
+  EXPECT_NEAR(piece[piece.root].radius, 0.01, 1e-12);
+  // Where the fork lies a stub's radius deep, the short stub stays (the tube starts in the mesh).
+  auto thick = [](const Eigen::Vector3d& p) { return std::min({0.04 - std::hypot(p.x(), p.y()), p.z(), 2.0 - p.z()}); };
+  const Skeleton deep = piece_of(s, tree, tip, thick);
+  EXPECT_EQ(deep[deep.root].position, plain[plain.root].position);
 }
 
 TEST(SkeletonParts, ANarrowBranchIsReattachedWhereItLeavesTheThickerOne) {
