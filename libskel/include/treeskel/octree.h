@@ -24,9 +24,12 @@ struct OctreeOptions {
   /// of the cell populations, blind to lone outliers) holds at least this many points, but no deeper
   /// than `max_extra_depth` beyond the paper's `2 + log8 N`. The paper's fixed depth leaves ~1 point
   /// per cell on sparsely sampled stems, whose level sets then fall apart, or many on dense clouds of
-  /// thin twigs, which it cannot resolve; a density target works for both.
+  /// thin twigs, which it cannot resolve; a density target works for both. The default, 1, is met
+  /// at every depth, so the depth is the cap: on sparse crowns a target of 2 made cells of 10 cm on a
+  /// 10 m tree, and a clump of twigs half a metre across one node (docs/models.md, coverage). Dense
+  /// clouds reach the cap with either.
   /// 0: the paper's depth, ⌊2 + log8 N⌋.
-  double points_per_cell = 2.0;
+  double points_per_cell = 1.0;
   int max_extra_depth = 1;
   /// With depth 0, also try the cube grown by 2^(k / depth_steps), k = 1 .. depth_steps - 1, whose
   /// depths give cell sizes between two of the plain cube's; the finest cell that holds
