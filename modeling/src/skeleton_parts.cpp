@@ -49,6 +49,20 @@ Vector3d direction_along(const Skeleton& sk, const std::vector<NodeId>& nodes, d
   return Vector3d::Zero();
 }
 
+/// Calls `visit(point, distance)` for each point of a grid of 2 kStubGrid + 1 points a side around
+/// `centre`, `reach` / kStubGrid apart, that lies within `reach` of it, x, then y, then z ascending.
+template <class Visit>
+void for_stub_grid(const Vector3d& centre, double reach, Visit&& visit) {
+  const double step = reach / kStubGrid;
+  for (int x = -kStubGrid; x <= kStubGrid; ++x)
+    for (int y = -kStubGrid; y <= kStubGrid; ++y)
+      for (int z = -kStubGrid; z <= kStubGrid; ++z) {
+        const Vector3d offset = step * Vector3d(x, y, z);
+        const double distance = offset.norm();
+        if (distance <= reach * (1.0 + 1e-9)) visit(Vector3d(centre + offset), distance);
+      }
+}
+
 /// The turn into the branch a stub may make at its fork, as the least cosine between the stub's
 /// direction and the branch's: 117 degrees, short of the 120 the tube drops (see tube.h).
 constexpr double kStubTurnCos = -0.45;
@@ -93,13 +107,10 @@ std::optional<std::pair<Vector3d, double>> straight_stub(const Skeleton& skeleto
     for (NodeId w : next)
       if ((skeleton[w].position - at_fork).norm() <= reach && seen.insert(w).second) todo.push_back(w);
   }
-  if (!nearest) {
-    const double step = reach / kStubGrid;
-    for (int x = -kStubGrid; x <= kStubGrid; ++x)
-      for (int y = -kStubGrid; y <= kStubGrid; ++y)
-        for (int z = -kStubGrid; z <= kStubGrid; ++z)
-          if (x != 0 || y != 0 || z != 0) consider(at_fork + step * Vector3d(x, y, z));
-  }
+  if (!nearest)
+    for_stub_grid(at_fork, reach, [&](const Vector3d& p, double distance) {
+      if (distance > 0.0) consider(p);
+    });
   if (nearest) return std::pair{*nearest, radius};
   if (deepest) return std::pair{*deepest, deepest_depth};
   return std::nullopt;
@@ -312,19 +323,13 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
       // point a stub's radius deep in the mesh, of a grid of points as near the fork as the stub
       // could follow the parent (four fork radii, not past the fork below).
       if (!deep && walked > 0.0) {
-        const double step = walked / kStubGrid;
         double nearest = std::numeric_limits<double>::infinity();
-        for (int x = -kStubGrid; x <= kStubGrid; ++x)
-          for (int y = -kStubGrid; y <= kStubGrid; ++y)
-            for (int z = -kStubGrid; z <= kStubGrid; ++z) {
-              const Vector3d offset = step * Vector3d(x, y, z);
-              const double distance = offset.norm();
-              if (distance > walked * (1.0 + 1e-9) || distance >= nearest) continue;
-              if (depth(at_fork + offset) >= radius) {
-                nearest = distance;
-                path.assign(1, at_fork + offset);
-              }
-            }
+        for_stub_grid(at_fork, walked, [&](const Vector3d& p, double distance) {
+          if (distance < nearest && depth(p) >= radius) {
+            nearest = distance;
+            path.assign(1, p);
+          }
+        });
         // No point of it that deep (the LPine1 plot's tree 13: a fork 2.4 cm outside its parent's
         // thinned tube): a thinner stub from the deepest point around the fork (see straight_stub).
         if (!std::isfinite(nearest))

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <set>
 
@@ -171,19 +172,32 @@ TEST(Plot, ALeafyTreeIsModelledFromItsWood) {
   EXPECT_NE(both.out.find("give one"), std::string::npos) << both.out;
 }
 
+// The bundled LPine1 plot segmented once (each tree's points in trees/tree_NNN.ply), for the tests
+// that model its trees.
+class LPine1Plot : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = std::make_unique<test::TempDir>();
+    const Result seg = run("plot " + quoted(TREESKEL_TEST_LAZ) + " -o " + quoted(dir_->path("out")) + " --segment-only");
+    ASSERT_EQ(seg.code, 0) << seg.out;
+  }
+  static void TearDownTestSuite() { dir_.reset(); }
+  /// Tree `id` ("004") of the plot, as a cloud file.
+  static std::string tree(const std::string& id) { return dir_->path("out/trees/tree_" + id + ".ply"); }
+  const test::TempDir dir;  // this test's own outputs
+ private:
+  static std::unique_ptr<test::TempDir> dir_;
+};
+std::unique_ptr<test::TempDir> LPine1Plot::dir_;
+
 // A branch the sweep re-attached to a thicker one is swept once. On tree 11 of the bundled LPine1
 // plot an 8,614-node limb went both into the tree's mesh and into a piece swept apart (the pieces
 // were cut from the skeleton as it was before the re-attachment); the copies crossed each other once
 // rounded to floats wherever a union cut them, and the unions were thrown away and redone 186 times
 // (406 s, 979,894 triangles). Now one union takes it in (254,754 triangles).
-TEST(Plot, ALimbOfAnLPine1PineIsSweptOnce) {
-  const test::TempDir dir;
-  const std::string laz = TREESKEL_TEST_LAZ;
-  const Result seg = run("plot " + quoted(laz) + " -o " + quoted(dir.path("out")) + " --segment-only");
-  ASSERT_EQ(seg.code, 0) << seg.out;
-  const std::string tree = dir.path("out/trees/tree_011.ply");
-  ASSERT_TRUE(fs::exists(tree)) << seg.out;
-  const Result r = run("model " + quoted(tree) + " -q -o " + quoted(dir.path("t.glb")) + " --report " + quoted(dir.path("r.json")));
+TEST_F(LPine1Plot, ALimbOfAPineIsSweptOnce) {
+  ASSERT_TRUE(fs::exists(tree("011")));
+  const Result r = run("model " + quoted(tree("011")) + " -q -o " + quoted(dir.path("t.glb")) + " --report " + quoted(dir.path("r.json")));
   ASSERT_EQ(r.code, 0) << r.out;
   const auto mesh = read_json(dir.path("r.json"))["mesh"];
   EXPECT_LE(mesh["unions"].get<int>(), 10) << mesh.dump();
@@ -196,15 +210,10 @@ TEST(Plot, ALimbOfAnLPine1PineIsSweptOnce) {
 // two threads wrote another GLB (15 triangles of one join): CGAL's convex hull split a flat face of
 // the join in an order that followed memory addresses, and which thread had run what before moved
 // them. (A run that differs only sometimes: three runs on two threads.)
-TEST(Plot, LPine1TreesModelsAreOneComponentAndTheSameOnOneThreadAndTwo) {
-  const test::TempDir dir;
-  const std::string laz = TREESKEL_TEST_LAZ;
-  const Result seg = run("plot " + quoted(laz) + " -o " + quoted(dir.path("out")) + " --segment-only");
-  ASSERT_EQ(seg.code, 0) << seg.out;
-  const std::string tree = dir.path("out/trees/tree_004.ply");
-  ASSERT_TRUE(fs::exists(tree)) << seg.out;
+TEST_F(LPine1Plot, TreesAreOneComponentAndTheSameOnOneThreadAndTwo) {
+  ASSERT_TRUE(fs::exists(tree("004")));
   auto model = [&](int threads, const std::string& name) {
-    const Result r = run("--threads " + std::to_string(threads) + " model " + quoted(tree) + " --wood-if-leafy -q -o " + quoted(dir.path(name)));
+    const Result r = run("--threads " + std::to_string(threads) + " model " + quoted(tree("004")) + " --wood-if-leafy -q -o " + quoted(dir.path(name)));
     EXPECT_EQ(r.code, 0) << r.out;
     return read_text(dir.path(name));
   };
@@ -215,7 +224,7 @@ TEST(Plot, LPine1TreesModelsAreOneComponentAndTheSameOnOneThreadAndTwo) {
   // its parent from a fork 2 mm inside the parent's tube, and a fork 2.4 cm outside a thinned one.
   for (const std::string id : {"004", "013"}) {
     const std::string report = dir.path("r" + id + ".json");
-    const Result r = run("model " + quoted(dir.path("out/trees/tree_" + id + ".ply")) + " --wood-if-leafy -q -o " +
+    const Result r = run("model " + quoted(tree(id)) + " --wood-if-leafy -q -o " +
                          quoted(dir.path("t.glb")) + " --report " + quoted(report));
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_EQ(read_json(report)["mesh"]["components"].get<int>(), 1) << "tree " << id;

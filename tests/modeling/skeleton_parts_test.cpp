@@ -293,16 +293,29 @@ TEST(SkeletonParts, AStubGoesOnAlongItsParentToWhereTheMeshHoldsIt) {
   EXPECT_EQ(stays[stays.root].position, stays_plain[stays_plain.root].position);
 }
 
+// A stem 1 m tall (radius 0.05) that forks at z = 1 into its continuation up to z = 2 (radius 0.045)
+// and a branch of radius 0.02 toward `to`: the skeleton, its chains and the branch's tip.
+struct BranchAtFork {
+  Skeleton s = test::straight(1.0, 0.05, 20);
+  NodeId tip;
+  ChainTree tree;
+  explicit BranchAtFork(const Eigen::Vector3d& to) {
+    const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
+    test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
+    tip = test::add_run(s, fork, to, 0.02, 20);
+    tree = build_chains(s);
+  }
+};
+
 // Where the parent's path holds no node deep in the mesh but the mesh passes the fork by within the
 // stub's reach (four fork radii, not past the fork below), the stub goes straight from the fork to
 // the nearest point a stub's radius deep in it: a piece that met the mesh nowhere lay beside the
 // tree, a second component (a limb of the LPine1 plot's tree 4).
 TEST(SkeletonParts, AStubGoesStraightIntoAMeshThatPassesTheForkBy) {
-  Skeleton s = test::straight(1.0, 0.05, 20);
-  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
-  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
-  const NodeId tip = test::add_run(s, fork, Eigen::Vector3d(0.5, 0, 1.5), 0.02, 20);
-  const ChainTree tree = build_chains(s);
+  const BranchAtFork f(Eigen::Vector3d(0.5, 0, 1.5));
+  const Skeleton& s = f.s;
+  const ChainTree& tree = f.tree;
+  const NodeId tip = f.tip;
   const Skeleton plain = piece_of(s, tree, tip);
   const double radius = plain[plain.root].radius;
   // A ball of radius 0.1 centred 0.25 beside the fork: 0.15 from it, within 4 x 0.05; the parent's
@@ -325,11 +338,10 @@ TEST(SkeletonParts, AStubGoesStraightIntoAMeshThatPassesTheForkBy) {
 // beside a fork 2.4 cm outside it: the LPine1 plot's tree 13): the stub comes from the deepest point
 // within reach, as thick as that point is deep, rather than leave the piece beside the tree.
 TEST(SkeletonParts, AStubIntoAThinMeshIsAsThinAsTheMeshIsDeep) {
-  Skeleton s = test::straight(1.0, 0.05, 20);
-  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
-  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
-  const NodeId tip = test::add_run(s, fork, Eigen::Vector3d(0.5, 0, 1.5), 0.02, 20);
-  const ChainTree tree = build_chains(s);
+  const BranchAtFork f(Eigen::Vector3d(0.5, 0, 1.5));
+  const Skeleton& s = f.s;
+  const ChainTree& tree = f.tree;
+  const NodeId tip = f.tip;
   const Skeleton plain = piece_of(s, tree, tip);
   // A rod of radius 0.012 along x = 0.04 up to z = 0.95: the parent's nodes (x = 0) and the branch
   // (above the fork) lie outside it; the grid's points at x = 0.05 lie 0.002 deep.
@@ -348,11 +360,10 @@ TEST(SkeletonParts, AStubIntoAThinMeshIsAsThinAsTheMeshIsDeep) {
 // which the tube drops, and the piece met the mesh nowhere (a 366-node limb of the LPine1 plot's
 // tree 4). The stub comes from inside the mesh, from where it turns into the branch by less.
 TEST(SkeletonParts, AStubIntoABranchThatRunsBackAlongItsParentComesFromBehindTheFork) {
-  Skeleton s = test::straight(1.0, 0.05, 20);
-  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
-  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
-  const NodeId tip = test::add_run(s, fork, Eigen::Vector3d(0.1, 0, 0.5), 0.02, 20);
-  const ChainTree tree = build_chains(s);
+  const BranchAtFork f(Eigen::Vector3d(0.1, 0, 0.5));
+  const Skeleton& s = f.s;
+  const ChainTree& tree = f.tree;
+  const NodeId tip = f.tip;
   const Skeleton plain = piece_of(s, tree, tip);
   ASSERT_LT(plain[plain.root].position.z(), 1.0);  // back down the parent: a hairpin
   // The parent's mesh, a rod of radius 0.01 along the z axis from 0 to 2: the fork lies 0.01 deep,
