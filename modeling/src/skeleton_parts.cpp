@@ -70,10 +70,10 @@ constexpr double kStubTurnCos = -0.45;
 /// Where a stub into the branch leaving `fork` along `ahead` may start, and how thick it may be:
 /// a point from which the stub turns by at most kStubTurnCos into the branch, within `reach` of the
 /// fork (as far as the stub could follow its parent: not past the fork below), inside the mesh
-/// `depth` measures. Of the nodes around the fork that the mesh holds (by
-/// `swept`; not the branch's, which `first` starts) and then of the points of a grid around it, the
-/// nearest that lies `radius` deep, with `radius`; failing that, the deepest, with its depth as the
-/// stub's radius; none if no such point is inside the mesh.
+/// `depth` measures. Of the nodes around the fork that the mesh holds (by `swept`; not the
+/// branch's, which `first` starts) and then of the points of a grid around it, the nearest that
+/// lies `radius` deep, with `radius`; failing that, the deepest, with its depth as the stub's radius
+/// (the sweep raises it to its floor radius); none if no such point is inside the mesh.
 std::optional<std::pair<Vector3d, double>> straight_stub(const Skeleton& skeleton, const ChainTree& tree, NodeId fork,
                                                          NodeId first, const Vector3d& ahead, double radius, double reach,
                                                          const DepthTest& depth, const std::vector<char>* swept) {
