@@ -313,16 +313,13 @@ struct BranchAtFork {
 // tree, a second component (a limb of the LPine1 plot's tree 4).
 TEST(SkeletonParts, AStubGoesStraightIntoAMeshThatPassesTheForkBy) {
   const BranchAtFork f(Eigen::Vector3d(0.5, 0, 1.5));
-  const Skeleton& s = f.s;
-  const ChainTree& tree = f.tree;
-  const NodeId tip = f.tip;
-  const Skeleton plain = piece_of(s, tree, tip);
+  const Skeleton plain = piece_of(f.s, f.tree, f.tip);
   const double radius = plain[plain.root].radius;
   // A ball of radius 0.1 centred 0.25 beside the fork: 0.15 from it, within 4 x 0.05; the parent's
   // nodes (under the fork) and the branch's tubes stay outside it.
   const Eigen::Vector3d centre(0.25, 0, 1.0);
   auto ball = [centre](double r) { return [centre, r](const Eigen::Vector3d& p) { return r - (p - centre).norm(); }; };
-  const Skeleton piece = piece_of(s, tree, tip, ball(0.1));
+  const Skeleton piece = piece_of(f.s, f.tree, f.tip, ball(0.1));
   EXPECT_TRUE(is_tree(piece.graph));
   EXPECT_EQ(piece.node_count(), 1u + 1u + 20u);  // one stub node, the fork, the branch's 20
   // Of a grid of points 0.05 apart around the fork, the nearest one a stub's radius deep.
@@ -330,7 +327,7 @@ TEST(SkeletonParts, AStubGoesStraightIntoAMeshThatPassesTheForkBy) {
   EXPECT_GE(ball(0.1)(piece[piece.root].position), radius);
   EXPECT_DOUBLE_EQ(piece[piece.root].radius, radius);
   // A ball so thin that no point of the grid lies in it: as it was.
-  const Skeleton thin = piece_of(s, tree, tip, ball(0.015));
+  const Skeleton thin = piece_of(f.s, f.tree, f.tip, ball(0.015));
   EXPECT_EQ(thin[thin.root].position, plain[plain.root].position);
 }
 
@@ -339,14 +336,11 @@ TEST(SkeletonParts, AStubGoesStraightIntoAMeshThatPassesTheForkBy) {
 // within reach, as thick as that point is deep, rather than leave the piece beside the tree.
 TEST(SkeletonParts, AStubIntoAThinMeshIsAsThinAsTheMeshIsDeep) {
   const BranchAtFork f(Eigen::Vector3d(0.5, 0, 1.5));
-  const Skeleton& s = f.s;
-  const ChainTree& tree = f.tree;
-  const NodeId tip = f.tip;
-  const Skeleton plain = piece_of(s, tree, tip);
+  const Skeleton plain = piece_of(f.s, f.tree, f.tip);
   // A rod of radius 0.012 along x = 0.04 up to z = 0.95: the parent's nodes (x = 0) and the branch
   // (above the fork) lie outside it; the grid's points at x = 0.05 lie 0.002 deep.
   auto rod = [](const Eigen::Vector3d& p) { return std::min(0.012 - std::hypot(p.x() - 0.04, p.y()), 0.95 - p.z()); };
-  const Skeleton piece = piece_of(s, tree, tip, rod);
+  const Skeleton piece = piece_of(f.s, f.tree, f.tip, rod);
   EXPECT_TRUE(is_tree(piece.graph));
   EXPECT_EQ(piece.node_count(), 1u + 1u + 20u);  // one stub node, the fork, the branch's 20
   EXPECT_NEAR(piece[piece.root].position.x(), 0.05, 1e-12);
@@ -361,15 +355,12 @@ TEST(SkeletonParts, AStubIntoAThinMeshIsAsThinAsTheMeshIsDeep) {
 // tree 4). The stub comes from inside the mesh, from where it turns into the branch by less.
 TEST(SkeletonParts, AStubIntoABranchThatRunsBackAlongItsParentComesFromBehindTheFork) {
   const BranchAtFork f(Eigen::Vector3d(0.1, 0, 0.5));
-  const Skeleton& s = f.s;
-  const ChainTree& tree = f.tree;
-  const NodeId tip = f.tip;
-  const Skeleton plain = piece_of(s, tree, tip);
+  const Skeleton plain = piece_of(f.s, f.tree, f.tip);
   ASSERT_LT(plain[plain.root].position.z(), 1.0);  // back down the parent: a hairpin
   // The parent's mesh, a rod of radius 0.01 along the z axis from 0 to 2: the fork lies 0.01 deep,
   // under the stub's radius.
   auto rod = [](const Eigen::Vector3d& p) { return std::min({0.01 - std::hypot(p.x(), p.y()), p.z(), 2.0 - p.z()}); };
-  const Skeleton piece = piece_of(s, tree, tip, rod);
+  const Skeleton piece = piece_of(f.s, f.tree, f.tip, rod);
   EXPECT_TRUE(is_tree(piece.graph));
   const Eigen::Vector3d from = piece[piece.root].position;
   EXPECT_NEAR(std::hypot(from.x(), from.y()), 0.0, 1e-12);
@@ -377,7 +368,7 @@ TEST(SkeletonParts, AStubIntoABranchThatRunsBackAlongItsParentComesFromBehindThe
   EXPECT_NEAR(piece[piece.root].radius, 0.01, 1e-12);
   // Where the fork lies a stub's radius deep, the short stub stays (the tube starts in the mesh).
   auto thick = [](const Eigen::Vector3d& p) { return std::min({0.04 - std::hypot(p.x(), p.y()), p.z(), 2.0 - p.z()}); };
-  const Skeleton deep = piece_of(s, tree, tip, thick);
+  const Skeleton deep = piece_of(f.s, f.tree, f.tip, thick);
   EXPECT_EQ(deep[deep.root].position, plain[plain.root].position);
 }
 
