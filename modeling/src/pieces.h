@@ -32,6 +32,9 @@ struct TreeScale {
   /// that carries `max_thinned_share` of it or more is swept apart, not thinned (see `SweepOptions`);
   /// 0: not known, and no branch is swept apart for what it carries.
   double wood_volume = 0.0;
+  /// The longest a band of a tube may run between two rings (a share of the whole tree's extent, so
+  /// that a piece's bands are as long as the tree's); 0: no limit.
+  double longest_band = 0.0;
 };
 
 /// `sweep_mesh` with the frame files hold and the floor radius given (a piece of a tree is checked

@@ -59,10 +59,23 @@ using detail::Polyline;
 using detail::reach_beyond;
 using detail::Ring;
 using detail::ring_at;
+using detail::area_factor;
 constexpr int kMaxJunctionIterations = 80;
 /// A chain longer than this many radii between its end rings has room for its tube whatever way it
 /// turns (the rings laid along it are checked one against the next).
 constexpr double kRoomyChain = 4.0;
+/// Along a branch, a ring is left out where the tube running straight past it keeps the skeleton
+/// within this many of its radii of the tube's axis: inside the tube, whose polygon (as large as
+/// the circle) reaches 0.78 of the radius across at 3 sides and 0.95 at 6 ...
+constexpr double kStrayRadii = 0.5;
+/// ... and the radius within this share of the straight taper between the rings kept.
+constexpr double kTaperShare = 0.03;
+/// A band runs between two rings for at most this share of the tree's extent. Where pieces swept
+/// apart are united with the tree, the union cuts slivers along the line where two surfaces cross,
+/// as long as the faces they cross; at a narrow crossing, rounding the points of a long one to
+/// floats folds it into its neighbour, which no short edge's collapse clears (two straight limbs
+/// crossing, each a single band: a fold 0.5 m long).
+constexpr double kLongestBandShare = 0.02;
 
 using UnionFind = DisjointSets<std::size_t>;
 
@@ -108,8 +121,10 @@ class Builder {
   using HullCache = std::map<std::vector<double>, std::optional<std::vector<std::array<std::size_t, 3>>>>;
 
   /// `fused`: pairs of forks (ids of `sk`) to make one join from the start (see sweep_attached).
-  Builder(const Skeleton& sk, const SweepOptions& o, HullCache& hulls, std::vector<std::pair<NodeId, NodeId>> fused = {})
-      : sk_(sk), o_(o), t_(build_chains(sk)), hulls_(&hulls), fused_(std::move(fused)) {}
+  /// `longest_band`: the longest a band of a tube may run between two rings (0: no limit).
+  Builder(const Skeleton& sk, const SweepOptions& o, HullCache& hulls, double longest_band,
+          std::vector<std::pair<NodeId, NodeId>> fused = {})
+      : sk_(sk), o_(o), t_(build_chains(sk)), hulls_(&hulls), longest_band_(longest_band), fused_(std::move(fused)) {}
 
   Attempt run() {
     const auto& g = sk_.graph;
@@ -437,13 +452,42 @@ class Builder {
     return worst;
   }
 
+  /// Whether the tube may run straight from `prev` (at arc `prev_s`) past point `i` of the polyline
+  /// to the point after it (or to `last`, at `s1`): every point of the branch in between lies within
+  /// kStrayRadii of its radius of that straight axis, the radius within kTaperShare of the straight
+  /// taper, and the axis turns from `prev`'s by at most `max_turn`. A twig raised to the floor radius
+  /// is many radii long between the skeleton's nodes, and a ring at each node, where it runs straight,
+  /// gave most of a crown's triangles (92% on AdTree's Paris_Luxembourg_1).
+  bool straight_past(const Polyline& pl, const Ring& prev, double prev_s, std::size_t i, double s1, const Ring& last) const {
+    const bool to_last = i + 2 >= pl.p.size() || pl.s[i + 1] >= s1;
+    const Vector3d end = to_last ? last.centre : pl.p[i + 1];
+    const double end_s = to_last ? s1 : pl.s[i + 1];
+    const double end_r = to_last ? last.radius / area_factor(last.sides) : pl.r[i + 1];
+    const double start_r = prev.radius / area_factor(prev.sides);
+    const Vector3d axis = end - prev.centre;
+    const double length = axis.norm();
+    if (!(length > eps_) || !(end_s > prev_s)) return false;
+    if (longest_band_ > 0.0 && length > longest_band_) return false;
+    if (axis.dot(prev.normal) < std::cos(o_.max_turn) * length) return false;
+    for (std::size_t k = i; k > 0 && pl.s[k] > prev_s; --k) {
+      const double f = (pl.s[k] - prev_s) / (end_s - prev_s);
+      const double taper = (1.0 - f) * start_r + f * end_r;
+      if (std::abs(pl.r[k] - taper) > kTaperShare * taper) return false;
+      const double along = std::clamp((pl.p[k] - prev.centre).dot(axis) / (length * length), 0.0, 1.0);
+      if ((pl.p[k] - prev.centre - along * axis).norm() > kStrayRadii * std::min(pl.r[k], taper)) return false;
+    }
+    return true;
+  }
+
   /// The rings of a tube from `first` (at arc s0) to `last` (at s1): one at each point of the polyline
-  /// between them where the branch has run or turned enough, none crossing the one before or `last`;
+  /// between them where the branch has run or turned enough and the tube may not run straight past
+  /// (`straight_past`), none crossing the one before or `last`;
   /// false (and `rings` up to the last one that fits) when the end rings still cross.
   bool lay_rings(const Polyline& pl, double s0, double s1, const Ring& first, const Ring& last, int sides,
                  std::vector<Ring>& rings) const {
     const double margin_scale = 0.01;
     rings.assign(1, first);
+    double prev_s = s0;
     for (std::size_t i = 1; i + 1 < pl.p.size(); ++i) {
       if (pl.s[i] <= s0 || pl.s[i] >= s1) continue;
       const Ring candidate = ring_at(pl, pl.s[i], sides);
@@ -452,8 +496,10 @@ class Builder {
       const bool far = (candidate.centre - prev.centre).norm() >= o_.ring_spacing * r;
       const bool turned = std::acos(std::clamp(candidate.normal.dot(prev.normal), -1.0, 1.0)) > o_.max_turn;
       if (!far && !turned) continue;
+      if (!turned && straight_past(pl, prev, prev_s, i, s1, last)) continue;
       if (!compatible(prev, candidate, margin_scale * r + eps_)) continue;
       rings.push_back(candidate);
+      prev_s = pl.s[i];
     }
     while (rings.size() > 1 && !compatible(rings.back(), last, margin_scale * std::max(rings.back().radius, last.radius) + eps_))
       rings.pop_back();
@@ -804,6 +850,7 @@ class Builder {
   const SweepOptions& o_;
   ChainTree t_;
   HullCache* hulls_;
+  double longest_band_;
   double eps_ = 0.0;
   std::vector<Polyline> lines_;
   std::vector<int> sides_;
@@ -1055,7 +1102,7 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
     for (const auto& [x, y] : fused)
       if (pruned_of[x] >= 0 && pruned_of[y] >= 0)
         fuse.emplace_back(static_cast<NodeId>(pruned_of[x]), static_cast<NodeId>(pruned_of[y]));
-    Builder builder(pruned, options, hulls, std::move(fuse));
+    Builder builder(pruned, options, hulls, whole.longest_band, std::move(fuse));
     Attempt a = builder.run();
     st.branches = a.branches;
     st.junctions = a.junctions;
@@ -1349,7 +1396,7 @@ TreeMesh detail::sweep_in_frame(const Skeleton& skeleton, const SweepOptions& op
   if (floor_radius < 0.0)
     floor_radius = std::max(options.min_relative_radius * max_radius, options.min_extent_radius * box.sizes().maxCoeff());
   const TreeScale scale{floor_radius, options.max_drop_radius * std::max(max_radius, floor_radius),
-                        wood_volume(skeleton, floor_radius)};
+                        wood_volume(skeleton, floor_radius), kLongestBandShare * box.sizes().maxCoeff()};
   SweepStats st;
   std::vector<Skeleton> apart;
   TreeMesh mesh = sweep_part(skeleton, options, frame, scale, st, apart, nullptr);

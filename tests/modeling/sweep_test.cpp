@@ -385,6 +385,70 @@ TEST(SweepMesh, TwigsAreRaisedToTheFloorOfTheExtent) {
   EXPECT_LT(twig_radius(thin), 1.2e-4);
 }
 
+/// The heights of the rings of a vertical tube's mesh (its vertices' distinct z, the caps' centres
+/// and the tip's apex left out: the vertices off the axis).
+std::vector<double> ring_heights(const TreeMesh& mesh) {
+  std::set<double> z;
+  for (auto v : mesh.vertices()) {
+    const auto p = mesh.point(v);
+    if (std::hypot(p[0], p[1]) > 1e-9) z.insert(p[2]);
+  }
+  return {z.begin(), z.end()};
+}
+
+// A straight, evenly thick run is one tube whose rings are as far apart as a band may be long, 2%
+// of the tree's extent, not a ring at each of its nodes (here 2 cm apart, each 2 radii from the
+// last: the old rule of a ring every 0.75 radii laid 501).
+TEST(SweepMesh, AStraightRunHasARingOnlyWhereABandWouldGrowTooLong) {
+  const Skeleton s = test::straight(10.0, 0.01, 500);
+  const TreeMesh mesh = sweep_mesh(s);
+  expect_valid(mesh);
+  const auto z = ring_heights(mesh);
+  ASSERT_GE(z.size(), 2u);
+  double longest = 0.0;
+  for (std::size_t i = 1; i < z.size(); ++i) longest = std::max(longest, z[i] - z[i - 1]);
+  EXPECT_LE(longest, 0.2 + 1e-9);
+  EXPECT_GT(longest, 0.15);
+  EXPECT_LE(z.size(), 55u);
+  EXPECT_GE(z.size(), 50u);
+}
+
+// Where the skeleton zigzags by more than half its radius between nodes, each node keeps its
+// ring and the skeleton stays inside the tube; by less, the tube runs straight past nodes (here
+// until a band would be longer than 2% of the extent: every other node), and the skeleton is
+// still inside.
+TEST(SweepMesh, ATubeLeavesOutOnlyTheRingsItsSkeletonStaysInsideWithout) {
+  constexpr int kNodes = 120;  // 1.19 m: a band may be 2.38 cm long
+  auto zigzag = [](double amplitude) {
+    Skeleton s;
+    SkeletonNode root;
+    root.radius = 0.002;
+    s.root = add_node(s, root);
+    NodeId prev = s.root;
+    for (int i = 1; i < kNodes; ++i) {  // nodes 1 cm (5 radii) apart, every other one off the axis
+      SkeletonNode node;
+      node.position = Eigen::Vector3d(i % 2 ? amplitude : 0.0, 0.0, 0.01 * i);
+      node.radius = 0.002;
+      const NodeId v = add_node(s, node);
+      boost::add_edge(prev, v, s.graph);
+      prev = v;
+    }
+    return s;
+  };
+  for (const double amplitude : {0.0012, 0.0006}) {
+    SCOPED_TRACE(amplitude);
+    const Skeleton s = zigzag(amplitude);
+    const TreeMesh mesh = sweep_mesh(s);
+    expect_valid(mesh);
+    EXPECT_GT(skeleton_coverage(s, mesh).share(), 0.999);
+    // The rings: 24 vertices each (the trunk's sides), besides the base's centre and the tip's apex.
+    const std::size_t rings = (mesh.n_vertices() - 2) / 24;
+    EXPECT_EQ(mesh.n_vertices(), 24 * rings + 2);
+    if (amplitude > 0.001) EXPECT_GE(rings, kNodes - 2u);  // one at each node but the last (the tip's)
+    else EXPECT_LE(rings, kNodes / 2 + 2u);
+  }
+}
+
 TEST(SweepMesh, SegmentsFollowTheRadius) {
   const TreeMesh thick = sweep_mesh(test::straight(1.0, 0.1, 10));
   SweepOptions o;
