@@ -4,6 +4,9 @@
 #include "skeleton_parts.h"
 #include "treeskel/error.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -463,9 +466,20 @@ std::vector<TreeMesh::Point> world_floats(const TreeMesh& mesh, const Eigen::Vec
 
 std::vector<std::size_t> faces_touching(const TreeMesh& mesh, const std::vector<Box>& boxes) {
   const BoxGrid grid(boxes);
+  // Each face on its own (the grid is only read), gathered in face order: the same list for any
+  // number of threads. (One after the other, 50-80 ms a call on a tree of 300k faces.)
+  const std::size_t n = mesh.n_faces();
+  std::vector<char> touches(n, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t f = range.begin(); f < range.end(); ++f) {
+      const auto face = mesh.face_handle(static_cast<unsigned>(f));
+      if (mesh.has_face_status() && mesh.status(face).deleted()) continue;  // as faces() skips them
+      touches[f] = grid.meets(face_box(mesh, face)) ? 1 : 0;
+    }
+  });
   std::vector<std::size_t> out;
-  for (auto f : mesh.faces())
-    if (grid.meets(face_box(mesh, f))) out.push_back(static_cast<std::size_t>(f.idx()));
+  for (std::size_t f = 0; f < n; ++f)
+    if (touches[f]) out.push_back(f);
   return out;
 }
 
