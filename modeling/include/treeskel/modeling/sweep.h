@@ -27,7 +27,9 @@ struct SweepOptions {
   double min_extent_radius = 1e-4;
   /// Along a branch a new ring is laid when the branch has run this many radii since the last one ...
   double ring_spacing = 0.75;
-  /// ... or has turned by more than this (radians).
+  /// ... or has turned by more than this (radians); but not where the tube may run straight past it
+  /// to the next point (the skeleton in between within half its radius of the straight axis, the
+  /// radius within 3% of the straight taper, the band under 2% of the tree's extent).
   double max_turn = 0.3;
   /// A branch leaving a thicker one at less than this angle (radians) is re-attached where it comes
   /// out of the thicker one's surface, so that the join stays compact (0: never).
