@@ -378,16 +378,18 @@ class Whole {
 
   /// Whether `p`, on none of the whole's surface, lies inside the whole: the base and the pieces
   /// united so far, as closed meshes of doubles; empty if `p` lies on one of their surfaces (inside
-  /// another: the whole's surface is not theirs there).
+  /// another: the whole's surface is not theirs there). A base without faces holds no point.
   std::optional<bool> inside(const GT::Point_3& p) {
-    if (!base_side_) base_side_ = std::make_unique<SideOf>(base_);
     bool in = false;
     auto add = [&](CGAL::Bounded_side side) {
       if (side == CGAL::ON_BOUNDARY) return false;
       in = in || side == CGAL::ON_BOUNDED_SIDE;
       return true;
     };
-    if (!add((*base_side_)(p))) return std::nullopt;
+    if (base_.n_faces() > 0) {
+      if (!base_side_) base_side_ = std::make_unique<SideOf>(base_);
+      if (!add((*base_side_)(p))) return std::nullopt;
+    }
     const Eigen::Vector3d q(p.x(), p.y(), p.z());
     for (std::size_t i : united_)
       if (boxes_[i].contains(q) && !add(sides_.side(i, p))) return std::nullopt;

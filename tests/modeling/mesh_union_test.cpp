@@ -69,6 +69,23 @@ TEST(MeshUnion, PiecesThatCrossAreUnitedTogetherFirst) {
   expect_valid(united.mesh);
 }
 
+// The sweep of a tree can leave every branch apart and hold nothing itself (seed 2's
+// tree1_vdensity_3 did: its first union then read the side of a point in an empty mesh, and crashed).
+// United with nothing, the pieces are the whole: one closed mesh of both, none left apart.
+TEST(MeshUnion, PiecesUniteWithAnEmptyBase) {
+  const TreeMesh low = limb(0.8, Eigen::Vector3d(1, 0, 1.6));
+  const TreeMesh apart = limb(1.0, Eigen::Vector3d(-1, 0, 1.2));
+  const auto united = detail::unite(TreeMesh{}, {low, apart}, 1e-6 * 2.0);
+  EXPECT_EQ(united.united, 2u);
+  EXPECT_EQ(united.failed, 0u);
+  EXPECT_EQ(united.mesh.n_faces(), low.n_faces() + apart.n_faces());
+  const MeshCheck c = check_mesh(united.mesh);
+  EXPECT_EQ(c.boundary_edges, 0u);
+  EXPECT_EQ(c.non_manifold_vertices, 0u);
+  EXPECT_EQ(c.self_intersections, 0u);
+  EXPECT_EQ(c.components, 2u);  // the two limbs, apart from each other as they were swept
+}
+
 /// The points of `mesh`'s faces, corner by corner, in face order.
 std::vector<TreeMesh::Point> face_corners(const TreeMesh& mesh) {
   std::vector<TreeMesh::Point> out;
