@@ -120,10 +120,14 @@ TreeMesh to_tree_mesh(const Surface& s, const Eigen::Vector3d& offset) {
 }
 
 /// Which side of a closed mesh a point lies on (an AABB tree of its faces in doubles, exact predicates).
+/// A mesh without faces holds no point (CGAL's test would read the root of an empty tree: a tree
+/// whose own sweep left every branch apart crashed its union so).
 class SideOf {
  public:
   explicit SideOf(const TreeMesh& mesh) : tree_(faces(mesh).first, faces(mesh).second, mesh) {}
-  CGAL::Bounded_side operator()(const GT::Point_3& p) const { return SideOfFaces(tree_)(p); }
+  CGAL::Bounded_side operator()(const GT::Point_3& p) const {
+    return tree_.empty() ? CGAL::ON_UNBOUNDED_SIDE : SideOfFaces(tree_)(p);
+  }
 
  private:
   FaceTree tree_;
@@ -378,18 +382,16 @@ class Whole {
 
   /// Whether `p`, on none of the whole's surface, lies inside the whole: the base and the pieces
   /// united so far, as closed meshes of doubles; empty if `p` lies on one of their surfaces (inside
-  /// another: the whole's surface is not theirs there). A base without faces holds no point.
+  /// another: the whole's surface is not theirs there).
   std::optional<bool> inside(const GT::Point_3& p) {
+    if (!base_side_) base_side_ = std::make_unique<SideOf>(base_);
     bool in = false;
     auto add = [&](CGAL::Bounded_side side) {
       if (side == CGAL::ON_BOUNDARY) return false;
       in = in || side == CGAL::ON_BOUNDED_SIDE;
       return true;
     };
-    if (base_.n_faces() > 0) {
-      if (!base_side_) base_side_ = std::make_unique<SideOf>(base_);
-      if (!add((*base_side_)(p))) return std::nullopt;
-    }
+    if (!add((*base_side_)(p))) return std::nullopt;
     const Eigen::Vector3d q(p.x(), p.y(), p.z());
     for (std::size_t i : united_)
       if (boxes_[i].contains(q) && !add(sides_.side(i, p))) return std::nullopt;

@@ -473,8 +473,7 @@ class Builder {
       const double f = (pl.s[k] - prev_s) / (end_s - prev_s);
       const double taper = (1.0 - f) * start_r + f * end_r;
       if (std::abs(pl.r[k] - taper) > kTaperShare * taper) return false;
-      const double along = std::clamp((pl.p[k] - prev.centre).dot(axis) / (length * length), 0.0, 1.0);
-      if ((pl.p[k] - prev.centre - along * axis).norm() > kStrayRadii * std::min(pl.r[k], taper)) return false;
+      if (point_segment_distance(pl.p[k], prev.centre, end) > kStrayRadii * std::min(pl.r[k], taper)) return false;
     }
     return true;
   }
