@@ -76,23 +76,16 @@ TreeMesh to_tree_mesh(const Surface& s, const Eigen::Vector3d& offset) {
     unrounded.push_back(exact);
     ids.push_back(v);
   }
-  // Points that round to the same floats (or the same exact point in two parts that touch) are
-  // told apart by their unrounded points, then by their neighbours': corefinement lists its
-  // vertices in an order that follows memory addresses.
-  auto neighbours = [&](std::size_t i) {
-    std::vector<std::array<double, 3>> out;
+  const auto exact_less = [&](std::size_t a, std::size_t b) {
+    return CGAL::compare_xyz(s.point(ids[a]), s.point(ids[b])) == CGAL::SMALLER;
+  };
+  const auto neighbours = [&](std::size_t i) {
+    std::vector<std::size_t> out;
     if (s.halfedge(ids[i]) == Surface::null_halfedge()) return out;  // a vertex no face uses
-    for (auto h : CGAL::halfedges_around_target(s.halfedge(ids[i]), s)) out.push_back(unrounded[index_of[s.source(h)]]);
-    std::sort(out.begin(), out.end());
+    for (auto h : CGAL::halfedges_around_target(s.halfedge(ids[i]), s)) out.push_back(index_of[s.source(h)]);
     return out;
   };
-  std::vector<std::size_t> order(points.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    if (points[a] != points[b]) return points[a] < points[b];
-    if (unrounded[a] != unrounded[b]) return unrounded[a] < unrounded[b];
-    return neighbours(a) < neighbours(b);
-  });
+  const std::vector<std::size_t> order = canonical_vertex_order(points, unrounded, exact_less, neighbours);
   std::vector<std::size_t> rank(s.number_of_vertices() + s.number_of_removed_vertices());
   for (std::size_t k = 0; k < order.size(); ++k) rank[ids[order[k]]] = k;
   std::vector<std::array<std::size_t, 3>> faces;

@@ -6,9 +6,11 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <memory>
+#include <numeric>
 #include <vector>
 
 namespace treeskel::modeling::detail {
@@ -71,6 +73,33 @@ std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_
 /// holes): the fan of the vertex's first face keeps it, and each other fan, in the order of its
 /// first face, gets a copy appended to `points`. `faces` index `points`.
 void split_pinched_vertices(std::vector<std::array<double, 3>>& points, std::vector<std::array<std::size_t, 3>>& faces);
+
+/// The order a union's vertices are written in, which must not follow corefinement's (that follows
+/// memory addresses): by `rounded` (the points as files hold them), then `unrounded` (as doubles),
+/// then `exact_less(a, b)` (the exact points: a cut's points can lie closer together than doubles
+/// tell apart; Paris_Luxembourg_1 has ten at one double), then, for the same exact point in two
+/// parts that touch, by the vertices `neighbours(i)` gives, each list sorted by `exact_less`.
+template <class ExactLess, class Neighbours>
+std::vector<std::size_t> canonical_vertex_order(const std::vector<std::array<double, 3>>& rounded,
+                                                const std::vector<std::array<double, 3>>& unrounded,
+                                                const ExactLess& exact_less, const Neighbours& neighbours) {
+  const auto sorted_neighbours = [&](std::size_t i) {
+    std::vector<std::size_t> out = neighbours(i);
+    std::sort(out.begin(), out.end(), exact_less);
+    return out;
+  };
+  std::vector<std::size_t> order(rounded.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (rounded[a] != rounded[b]) return rounded[a] < rounded[b];
+    if (unrounded[a] != unrounded[b]) return unrounded[a] < unrounded[b];
+    if (exact_less(a, b)) return true;
+    if (exact_less(b, a)) return false;
+    const auto na = sorted_neighbours(a), nb = sorted_neighbours(b);
+    return std::lexicographical_compare(na.begin(), na.end(), nb.begin(), nb.end(), exact_less);
+  });
+  return order;
+}
 
 /// Unites `pieces` with `base`. Each input must be closed, manifold and free of self-intersections.
 /// Pieces that cross or hold one another are united among themselves first (at most 8 a group); then

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -185,6 +186,43 @@ TEST(MeshUnion, PinchedVerticesGetACopyPerFan) {
   detail::split_pinched_vertices(four, one);
   EXPECT_EQ(four.size(), 4u);
   EXPECT_EQ(one, tetrahedron_faces(0, 1, 2, 3));
+}
+
+// Corefinement lists its vertices in an order that follows memory addresses. Points that a double
+// cannot tell apart take the order of their exact points, and the same exact point twice (two parts
+// touching) the order of its neighbours', whatever order they came in.
+TEST(MeshUnion, VerticesAtOneDoubleTakeTheOrderOfTheirExactPoints) {
+  // Five vertices rounding to one point: exact points 5, 3, 9, 3 and 1 (a rank stands for one), the
+  // two at 3 with neighbours at 1 and at 9.
+  const std::vector<int> exact{5, 3, 9, 3, 1};
+  const std::vector<std::vector<std::size_t>> neighbours_of{{}, {4}, {}, {2}, {}};
+  const std::vector<std::size_t> expected{4, 1, 3, 0, 2};
+  std::vector<std::size_t> arrival{0, 1, 2, 3, 4};  // arrival[i]: the vertex listed i-th
+  int orders = 0;
+  do {
+    std::vector<std::size_t> listed_at(arrival.size());
+    for (std::size_t i = 0; i < arrival.size(); ++i) listed_at[arrival[i]] = i;
+    const std::vector<std::array<double, 3>> same(arrival.size(), std::array<double, 3>{1.0, 2.0, 3.0});
+    const auto exact_less = [&](std::size_t a, std::size_t b) { return exact[arrival[a]] < exact[arrival[b]]; };
+    const auto neighbours = [&](std::size_t i) {
+      std::vector<std::size_t> out;
+      for (std::size_t v : neighbours_of[arrival[i]]) out.push_back(listed_at[v]);
+      return out;
+    };
+    const auto order = detail::canonical_vertex_order(same, same, exact_less, neighbours);
+    std::vector<std::size_t> vertices;
+    for (std::size_t i : order) vertices.push_back(arrival[i]);
+    EXPECT_EQ(vertices, expected) << "listed in the order of permutation " << orders;
+    ++orders;
+  } while (std::next_permutation(arrival.begin(), arrival.end()));
+  EXPECT_EQ(orders, 120);
+  // Rounded points and doubles come first.
+  std::vector<std::array<double, 3>> rounded(5, std::array<double, 3>{1.0, 2.0, 3.0}), unrounded = rounded;
+  rounded[4][0] = 2.0;
+  unrounded[2][1] = 1.0;
+  const auto plain = [&](std::size_t a, std::size_t b) { return exact[a] < exact[b]; };
+  const auto none = [](std::size_t) { return std::vector<std::size_t>{}; };
+  EXPECT_EQ(detail::canonical_vertex_order(rounded, unrounded, plain, none), (std::vector<std::size_t>{2, 1, 3, 0, 4}));
 }
 
 TEST(MeshUnion, WeldsOnlyEdgesShorterThanTheDistance) {
