@@ -370,4 +370,26 @@ Skeleton path_of(const Skeleton& sk, const std::vector<NodeId>& nodes) {
   return path;
 }
 
+std::vector<NodeId> forks_up_to(const Skeleton& skeleton, const ChainTree& tree, NodeId node, NodeId ancestor, double reach) {
+  const auto& g = skeleton.graph;
+  auto is_fork = [&](NodeId v) { return tree.children[v].size() >= 2; };
+  // A tube's part (owned by its chain's first node): from the fork its chain ends at, if any, so
+  // that the tube goes into the one join.
+  NodeId start = node;
+  if (!is_fork(node) && tree.chain_of[node] >= 0)
+    if (const NodeId end = tree.chains[static_cast<std::size_t>(tree.chain_of[node])].nodes.back(); is_fork(end)) start = end;
+  std::vector<NodeId> forks;
+  if (is_fork(start)) forks.push_back(start);
+  double along = 0.0;
+  for (NodeId v = start; v != ancestor;) {
+    const NodeId up = tree.parent[v];
+    if (up == v) return {};  // the root, and no ancestor met
+    along += (g[up].position - g[v].position).norm();
+    if (along > reach) return {};
+    v = up;
+    if (is_fork(v)) forks.push_back(v);
+  }
+  return forks;
+}
+
 }  // namespace treeskel::modeling::detail

@@ -52,4 +52,11 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
 /// The path through `nodes` of `sk` as a skeleton rooted at its first node.
 Skeleton path_of(const Skeleton& sk, const std::vector<NodeId>& nodes);
 
+/// The forks on the way from `node` (from the end of its chain, for a chain's first node) up to
+/// `ancestor` (each included when it is a fork), when `ancestor` lies that way within `reach` along
+/// the skeleton; empty otherwise. Two parts of one line of branches that cross within a few radii
+/// of each other are a fold of the line (a trunk that zigzags between forks a centimetre apart),
+/// not one branch in the other's way.
+std::vector<NodeId> forks_up_to(const Skeleton& skeleton, const ChainTree& tree, NodeId node, NodeId ancestor, double reach);
+
 }  // namespace treeskel::modeling::detail

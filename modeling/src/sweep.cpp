@@ -4,16 +4,13 @@
 #include "treeskel/error.h"
 #include "treeskel/geometry.h"
 #include "treeskel/modeling/chains.h"
+#include "attempt.h"
 #include "hull.h"
 #include "mesh_union.h"
 #include "pieces.h"
 #include "skeleton_parts.h"
 #include "tube.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/box_intersection_d.h>
-#include <CGAL/intersections.h>
 #include <Eigen/Geometry>
 #include <tbb/parallel_invoke.h>
 
@@ -59,17 +56,18 @@ using detail::Polyline;
 using detail::reach_beyond;
 using detail::Ring;
 using detail::ring_at;
+using detail::lay_rings;
+using detail::tip_arc;
 using detail::area_factor;
+using detail::Attempt;
+using detail::assemble;
+using detail::clearing_factor;
+using detail::crossing_parts;
+using detail::forks_up_to;
 constexpr int kMaxJunctionIterations = 80;
 /// A chain longer than this many radii between its end rings has room for its tube whatever way it
 /// turns (the rings laid along it are checked one against the next).
 constexpr double kRoomyChain = 4.0;
-/// Along a branch, a ring is left out where the tube running straight past it keeps the skeleton
-/// within this many of its radii of the tube's axis: inside the tube, whose polygon (as large as
-/// the circle) reaches 0.78 of the radius across at 3 sides and 0.95 at 6 ...
-constexpr double kStrayRadii = 0.5;
-/// ... and the radius within this share of the straight taper between the rings kept.
-constexpr double kTaperShare = 0.03;
 /// A band runs between two rings for at most this share of the tree's extent. Where pieces swept
 /// apart are united with the tree, the union cuts slivers along the line where two surfaces cross,
 /// as long as the faces they cross; at a narrow crossing, rounding the points of a long one to
@@ -78,41 +76,6 @@ constexpr double kTaperShare = 0.03;
 constexpr double kLongestBandShare = 0.02;
 
 using UnionFind = DisjointSets<std::size_t>;
-
-/// Outcome of one attempt to build the mesh of a (pruned, scaled) skeleton.
-struct Attempt {
-  std::size_t absorbed = 0;    // twigs too short to leave their join's hull, left inside it
-  std::size_t thinned = 0;     // the root's chain thinned so that the joins at both its ends fit
-  std::size_t dropped = 0;     // branches left out of this sweep where their joins did not fit
-  std::size_t straightened = 0;  // branches between two forks swept straight (they doubled back)
-  std::vector<NodeId> shrink;  // subtrees (by their top node) to thin, then try again
-  std::vector<NodeId> detached;  // subtrees (by their top node) left out of this sweep, swept apart
-  // The surface as a triangle soup, in parts: a join's hull, a tube's band between two adjacent
-  // rings, its base cap or its tip cone. Parts that share a ring meet only at that ring (a ring's
-  // plane has its band on one side and the next band or the join on the other), so only parts that
-  // share no ring are tested against each other. A part against itself is not tested: a band that
-  // folds where a branch kinks is left to CGAL's test of the whole mesh.
-  std::vector<Vector3d> vertices;
-  std::vector<std::array<std::size_t, 3>> faces;
-  std::vector<NodeId> face_owner;  // per face: top node of the branch or join that made it
-  std::vector<double> owner_radius;  // per face: that branch's or join's radius
-  std::vector<std::size_t> face_part;  // per face: its part
-  std::vector<std::vector<std::size_t>> part_rings;  // per part: its rings (by their first vertex)
-  /// Per part: a segment the part lies within `radius` of (radius -1 for a join's hull).
-  struct Axis {
-    Vector3d a = Vector3d::Zero(), b = Vector3d::Zero();
-    double radius = -1.0;
-    std::ptrdiff_t tube = -1;  // the tube it belongs to (-1: a hull)
-  };
-  std::vector<Axis> part_axis;
-  /// Per tube: its joins at either end (-1: none) and its parts, [first_part, end_part).
-  struct TubeParts {
-    std::array<std::ptrdiff_t, 2> joins{-1, -1};
-    std::size_t first_part = 0, end_part = 0;
-  };
-  std::vector<TubeParts> tube_parts;
-  std::size_t branches = 0, junctions = 0, merged_forks = 0;
-};
 
 class Builder {
  public:
@@ -124,7 +87,11 @@ class Builder {
   /// `longest_band`: the longest a band of a tube may run between two rings (0: no limit).
   Builder(const Skeleton& sk, const SweepOptions& o, HullCache& hulls, double longest_band,
           std::vector<std::pair<NodeId, NodeId>> fused = {})
-      : sk_(sk), o_(o), t_(build_chains(sk)), hulls_(&hulls), longest_band_(longest_band), fused_(std::move(fused)) {}
+      : sk_(sk), o_(o), t_(build_chains(sk)), hulls_(&hulls), fused_(std::move(fused)) {
+    rule_.spacing = o.ring_spacing;
+    rule_.max_turn = o.max_turn;
+    rule_.longest_band = longest_band;
+  }
 
   Attempt run() {
     const auto& g = sk_.graph;
@@ -135,6 +102,7 @@ class Builder {
       extent = std::max(extent, g[v].position.cwiseAbs().maxCoeff());
     }
     eps_ = 1e-9 * std::max({max_radius_, extent, 1e-300});
+    rule_.eps = eps_;
     // Polylines; a chain leaving a fork starts with the radius of its own first node.
     const bool root_fork = t_.children[sk_.root].size() >= 2;
     for (const auto& c : t_.chains) {
@@ -263,7 +231,7 @@ class Builder {
         if (room > 0.05 * pl.length() &&
             (compatible(first, last, eps_) ||
              (room > kRoomyChain * std::max(first.radius, last.radius) &&
-              (!(ja && jb) || straightened_[c] || lay_rings(pl, s0, s1, first, last, sides_[c], rings)))))
+              (!(ja && jb) || straightened_[c] || lay_rings(pl, s0, s1, first, last, sides_[c], rule_, rings)))))
           continue;
         if (ja && jb && !compact_merge(uf, a, b)) {
           if (!straightened_[c] && pl.p.size() > 2) {
@@ -452,65 +420,6 @@ class Builder {
     return worst;
   }
 
-  /// Whether the tube may run straight from `prev` (at arc `prev_s`) past point `i` of the polyline
-  /// to the point after it (or to `last`, at `s1`): every point of the branch in between lies within
-  /// kStrayRadii of its radius of that straight axis, the radius within kTaperShare of the straight
-  /// taper, and the axis turns from `prev`'s by at most `max_turn`. A twig raised to the floor radius
-  /// is many radii long between the skeleton's nodes, and a ring at each node, where it runs straight,
-  /// gave most of a crown's triangles (92% on AdTree's Paris_Luxembourg_1).
-  bool straight_past(const Polyline& pl, const Ring& prev, double prev_s, std::size_t i, double s1, const Ring& last) const {
-    const bool to_last = i + 2 >= pl.p.size() || pl.s[i + 1] >= s1;
-    const Vector3d end = to_last ? last.centre : pl.p[i + 1];
-    const double end_s = to_last ? s1 : pl.s[i + 1];
-    const double end_r = to_last ? last.radius / area_factor(last.sides) : pl.r[i + 1];
-    const double start_r = prev.radius / area_factor(prev.sides);
-    const Vector3d axis = end - prev.centre;
-    const double length = axis.norm();
-    if (!(length > eps_) || !(end_s > prev_s)) return false;
-    if (longest_band_ > 0.0 && length > longest_band_) return false;
-    if (axis.dot(prev.normal) < std::cos(o_.max_turn) * length) return false;
-    for (std::size_t k = i; k > 0 && pl.s[k] > prev_s; --k) {
-      const double f = (pl.s[k] - prev_s) / (end_s - prev_s);
-      const double taper = (1.0 - f) * start_r + f * end_r;
-      if (std::abs(pl.r[k] - taper) > kTaperShare * taper) return false;
-      if (point_segment_distance(pl.p[k], prev.centre, end) > kStrayRadii * std::min(pl.r[k], taper)) return false;
-    }
-    return true;
-  }
-
-  /// The rings of a tube from `first` (at arc s0) to `last` (at s1): one at each point of the polyline
-  /// between them where the branch has run or turned enough and the tube may not run straight past
-  /// (`straight_past`), none crossing the one before or `last`;
-  /// false (and `rings` up to the last one that fits) when the end rings still cross.
-  bool lay_rings(const Polyline& pl, double s0, double s1, const Ring& first, const Ring& last, int sides,
-                 std::vector<Ring>& rings) const {
-    const double margin_scale = 0.01;
-    rings.assign(1, first);
-    double prev_s = s0;
-    for (std::size_t i = 1; i + 1 < pl.p.size(); ++i) {
-      if (pl.s[i] <= s0 || pl.s[i] >= s1) continue;
-      const Ring candidate = ring_at(pl, pl.s[i], sides);
-      const Ring& prev = rings.back();
-      const double r = std::max(candidate.radius, prev.radius);
-      const bool far = (candidate.centre - prev.centre).norm() >= o_.ring_spacing * r;
-      const bool turned = std::acos(std::clamp(candidate.normal.dot(prev.normal), -1.0, 1.0)) > o_.max_turn;
-      if (!far && !turned) continue;
-      if (!turned && straight_past(pl, prev, prev_s, i, s1, last)) continue;
-      if (!compatible(prev, candidate, margin_scale * r + eps_)) continue;
-      rings.push_back(candidate);
-      prev_s = pl.s[i];
-    }
-    while (rings.size() > 1 && !compatible(rings.back(), last, margin_scale * std::max(rings.back().radius, last.radius) + eps_))
-      rings.pop_back();
-    return compatible(rings.back(), last, eps_);
-  }
-
-  /// Arc length of the last ring of a chain ending in a tip (its first ring at `s0`).
-  static double tip_arc(const Polyline& pl, double s0) {
-    const double length = pl.length();
-    return std::max(s0 + 0.6 * (length - s0), length - 0.5 * pl.r.back());
-  }
-
   /// Whether the joins of forks `a` and `b` would, merged, still span at most `join_reach` radii
   /// of their thickest branch.
   bool compact_merge(UnionFind& uf, NodeId a, NodeId b) {
@@ -694,7 +603,7 @@ class Builder {
       }
       // Rings in between, wherever the branch has run or turned enough, none crossing the last.
       std::vector<Ring>& rings = tube.rings;
-      if (!lay_rings(pl, s0, s1, first, last, sides, rings)) {
+      if (!lay_rings(pl, s0, s1, first, last, sides, rule_, rings)) {
         attempt.shrink.push_back(chain_top(c));
         continue;
       }
@@ -849,7 +758,7 @@ class Builder {
   const SweepOptions& o_;
   ChainTree t_;
   HullCache* hulls_;
-  double longest_band_;
+  detail::RingRule rule_;  // where a tube lays its rings
   double eps_ = 0.0;
   std::vector<Polyline> lines_;
   std::vector<int> sides_;
@@ -865,156 +774,6 @@ class Builder {
   double last_reach_ = 0.0;         // reach of the join `solve` last failed at
   std::size_t last_partner_ = 0;    // the arm whose ring the failed arm's could not clear
 };
-
-/// The attempt's triangles as one OpenMesh mesh; faces OpenMesh refuses (a non-manifold spot) ask
-/// for their branch to be thinned instead (`attempt.shrink`), and the result is then empty.
-std::optional<TreeMesh> assemble(Attempt& attempt) {
-  const auto& vertices = attempt.vertices;
-  const auto& faces = attempt.faces;
-  TreeMesh mesh;
-  std::vector<TreeMesh::VertexHandle> handles;
-  handles.reserve(vertices.size());
-  for (const auto& v : vertices) handles.push_back(mesh.add_vertex(TreeMesh::Point(v.x(), v.y(), v.z())));
-  std::vector<NodeId> owners;
-  std::vector<double> radii;
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const auto h = mesh.add_face(handles[faces[f][0]], handles[faces[f][1]], handles[faces[f][2]]);
-    if (!h.is_valid()) {
-      attempt.shrink.push_back(attempt.face_owner[f]);
-      continue;
-    }
-    owners.push_back(attempt.face_owner[f]);
-    radii.push_back(attempt.owner_radius[f]);
-  }
-  attempt.face_owner = std::move(owners);
-  attempt.owner_radius = std::move(radii);
-  attempt.face_part.clear();  // no longer in step with the faces
-  // Vertices no face uses (none expected) would make the mesh look open to some tools.
-  mesh.request_vertex_status();
-  mesh.request_edge_status();
-  mesh.request_face_status();
-  bool isolated = false;
-  for (auto v : mesh.vertices())
-    if (mesh.is_isolated(v)) {
-      mesh.delete_vertex(v, false);
-      isolated = true;
-    }
-  if (isolated) mesh.garbage_collection();
-  if (!attempt.shrink.empty()) return std::nullopt;
-  return mesh;
-}
-
-/// Pairs of faces, one pair for each two parts of the attempt that cross (see `Attempt`): the parts'
-/// boxes are matched first, then the faces of two overlapping parts that share no ring are tested
-/// exactly against each other. Parts that share a ring are not tested: they meet only at it.
-std::vector<std::pair<std::size_t, std::size_t>> crossing_parts(const Attempt& attempt) {
-  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t, CGAL::Box_intersection_d::ID_EXPLICIT>;
-  const auto& faces = attempt.faces;
-  const std::size_t parts = attempt.part_rings.size();
-  std::vector<Eigen::AlignedBox3d> face_box(faces.size()), part_box(parts);
-  std::vector<std::vector<std::size_t>> part_faces(parts);
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    for (std::size_t v : faces[f]) face_box[f].extend(attempt.vertices[v]);
-    part_box[attempt.face_part[f]].extend(face_box[f]);
-    part_faces[attempt.face_part[f]].push_back(f);
-  }
-  std::vector<Box> boxes;
-  boxes.reserve(parts);
-  for (std::size_t i = 0; i < parts; ++i) {
-    if (part_box[i].isEmpty()) continue;
-    double lo[3], hi[3];
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = part_box[i].min()[d];
-      hi[d] = part_box[i].max()[d];
-    }
-    boxes.emplace_back(lo, hi, i);
-  }
-  std::vector<std::pair<std::size_t, std::size_t>> candidates;
-  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
-    const auto& a = attempt.part_rings[x.info()];
-    const auto& b = attempt.part_rings[y.info()];
-    for (std::size_t ring : a)
-      if (std::find(b.begin(), b.end(), ring) != b.end()) return;
-    candidates.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
-  });
-  std::sort(candidates.begin(), candidates.end());
-  auto triangle = [&](std::size_t f) {
-    const auto& v = attempt.vertices;
-    auto point = [&](std::size_t i) { return K::Point_3(v[i].x(), v[i].y(), v[i].z()); };
-    return K::Triangle_3(point(faces[f][0]), point(faces[f][1]), point(faces[f][2]));
-  };
-  std::vector<std::pair<std::size_t, std::size_t>> out;
-  std::vector<std::size_t> near_a, near_b;
-  for (const auto& [pa, pb] : candidates) {
-    near_a.clear();
-    near_b.clear();
-    for (std::size_t f : part_faces[pa])
-      if (face_box[f].intersects(part_box[pb])) near_a.push_back(f);
-    for (std::size_t f : part_faces[pb])
-      if (face_box[f].intersects(part_box[pa])) near_b.push_back(f);
-    bool found = false;
-    for (std::size_t fa : near_a) {
-      for (std::size_t fb : near_b)
-        if (face_box[fa].intersects(face_box[fb]) && CGAL::do_intersect(triangle(fa), triangle(fb))) {
-          out.emplace_back(fa, fb);
-          found = true;
-          break;
-        }
-      if (found) break;
-    }
-  }
-  return out;
-}
-
-/// The forks on the way from `node` (from the end of its chain, for a chain's first node) up to
-/// `ancestor` (each included when it is a fork), when `ancestor` lies that way within `reach` along
-/// the skeleton; empty otherwise. Two parts of one line of branches that cross within a few radii
-/// of each other are a fold of the line (a trunk that zigzags between forks a centimetre apart),
-/// not one branch in the other's way.
-std::vector<NodeId> forks_up_to(const Skeleton& skeleton, const ChainTree& tree, NodeId node, NodeId ancestor, double reach) {
-  const auto& g = skeleton.graph;
-  auto is_fork = [&](NodeId v) { return tree.children[v].size() >= 2; };
-  // A tube's part (owned by its chain's first node): from the fork its chain ends at, if any, so
-  // that the tube goes into the one join.
-  NodeId start = node;
-  if (!is_fork(node) && tree.chain_of[node] >= 0)
-    if (const NodeId end = tree.chains[static_cast<std::size_t>(tree.chain_of[node])].nodes.back(); is_fork(end)) start = end;
-  std::vector<NodeId> forks;
-  if (is_fork(start)) forks.push_back(start);
-  double along = 0.0;
-  for (NodeId v = start; v != ancestor;) {
-    const NodeId up = tree.parent[v];
-    if (up == v) return {};  // the root, and no ancestor met
-    along += (g[up].position - g[v].position).norm();
-    if (along > reach) return {};
-    v = up;
-    if (is_fork(v)) forks.push_back(v);
-  }
-  return forks;
-}
-
-/// Factor by which part `x`'s radii must shrink to clear part `y`, from their axes (a part lies
-/// within its radius of its axis): 0.97 (d - r_y) / r_x, at most 0.95; none when either is a hull,
-/// which has no axis. Two tubes that share no join are compared over their whole length (where one
-/// runs inside the other, only the ends of that stretch cross the other's surface).
-std::optional<double> clearing_factor(const Attempt& attempt, std::size_t x, std::size_t y) {
-  const auto& ax = attempt.part_axis[x];
-  const auto& ay = attempt.part_axis[y];
-  if (ax.tube < 0 || ay.tube < 0) return std::nullopt;
-  auto factor = [](const Attempt::Axis& p, const Attempt::Axis& q) {
-    return 0.97 * (segment_segment_distance(p.a, p.b, q.a, q.b) - q.radius) / p.radius;
-  };
-  double f = std::min(factor(ax, ay), 0.95);
-  const auto& tx = attempt.tube_parts[static_cast<std::size_t>(ax.tube)];
-  const auto& ty = attempt.tube_parts[static_cast<std::size_t>(ay.tube)];
-  for (const std::ptrdiff_t j : tx.joins)
-    if (j >= 0 && (j == ty.joins[0] || j == ty.joins[1])) return f;
-  for (std::size_t p = tx.first_part; p < tx.end_part; ++p)
-    for (std::size_t q = ty.first_part; q < ty.end_part; ++q)
-      f = std::min(f, factor(attempt.part_axis[p], attempt.part_axis[q]));
-  return f;
-}
 
 /// Sweeps what of `skeleton` fits together into one valid mesh. Subtrees that a join or a crossing
 /// left no room for are not swept here: their nodes go to `detached`, for `sweep_mesh` to sweep

@@ -1,6 +1,7 @@
 #include "tube.h"
 
 #include "treeskel/error.h"
+#include "treeskel/geometry.h"
 
 #include <Eigen/Geometry>
 
@@ -149,6 +150,56 @@ double reach_beyond(const Ring& a, const Vector3d& na, const Ring& b) {
 
 bool compatible(const Ring& a, const Ring& b, double margin) {
   return -reach_beyond(a, -a.normal, b) > margin && reach_beyond(b, b.normal, a) < -margin;
+}
+
+bool straight_past(const Polyline& pl, const Ring& prev, double prev_s, std::size_t i, double s1, const Ring& last,
+                   const RingRule& rule) {
+  const bool to_last = i + 2 >= pl.p.size() || pl.s[i + 1] >= s1;
+  const Vector3d end = to_last ? last.centre : pl.p[i + 1];
+  const double end_s = to_last ? s1 : pl.s[i + 1];
+  const double end_r = to_last ? last.radius / area_factor(last.sides) : pl.r[i + 1];
+  const double start_r = prev.radius / area_factor(prev.sides);
+  const Vector3d axis = end - prev.centre;
+  const double length = axis.norm();
+  if (!(length > rule.eps) || !(end_s > prev_s)) return false;
+  if (rule.longest_band > 0.0 && length > rule.longest_band) return false;
+  if (axis.dot(prev.normal) < std::cos(rule.max_turn) * length) return false;
+  for (std::size_t k = i; k > 0 && pl.s[k] > prev_s; --k) {
+    const double f = (pl.s[k] - prev_s) / (end_s - prev_s);
+    const double taper = (1.0 - f) * start_r + f * end_r;
+    if (std::abs(pl.r[k] - taper) > kTaperShare * taper) return false;
+    if (point_segment_distance(pl.p[k], prev.centre, end) > kStrayRadii * std::min(pl.r[k], taper)) return false;
+  }
+  return true;
+}
+
+bool lay_rings(const Polyline& pl, double s0, double s1, const Ring& first, const Ring& last, int sides,
+               const RingRule& rule, std::vector<Ring>& rings) {
+  const double margin_scale = 0.01;
+  rings.assign(1, first);
+  double prev_s = s0;
+  for (std::size_t i = 1; i + 1 < pl.p.size(); ++i) {
+    if (pl.s[i] <= s0 || pl.s[i] >= s1) continue;
+    const Ring candidate = ring_at(pl, pl.s[i], sides);
+    const Ring& prev = rings.back();
+    const double r = std::max(candidate.radius, prev.radius);
+    const bool far = (candidate.centre - prev.centre).norm() >= rule.spacing * r;
+    const bool turned = std::acos(std::clamp(candidate.normal.dot(prev.normal), -1.0, 1.0)) > rule.max_turn;
+    if (!far && !turned) continue;
+    if (!turned && straight_past(pl, prev, prev_s, i, s1, last, rule)) continue;
+    if (!compatible(prev, candidate, margin_scale * r + rule.eps)) continue;
+    rings.push_back(candidate);
+    prev_s = pl.s[i];
+  }
+  while (rings.size() > 1 &&
+         !compatible(rings.back(), last, margin_scale * std::max(rings.back().radius, last.radius) + rule.eps))
+    rings.pop_back();
+  return compatible(rings.back(), last, rule.eps);
+}
+
+double tip_arc(const Polyline& pl, double s0) {
+  const double length = pl.length();
+  return std::max(s0 + 0.6 * (length - s0), length - 0.5 * pl.r.back());
 }
 
 }  // namespace treeskel::modeling::detail

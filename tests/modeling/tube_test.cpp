@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <vector>
 
 namespace treeskel::modeling::detail {
 namespace {
@@ -126,6 +127,66 @@ TEST(Tube, CompatibleRingsLieAheadOfOneAnother) {
   tilted.u = {0, 0, 1};
   EXPECT_FALSE(compatible(a, tilted, 0.0));
   EXPECT_NEAR(reach_beyond(a, -a.normal, tilted), 0.05, 1e-12);  // 0.1 - 0.05 behind a's plane
+}
+
+/// A straight branch along z from 0 to 4, a point every 0.2, radius 0.1 throughout; the point
+/// `bumped` (if any) moved sideways by `bump`.
+Polyline straight_branch(std::size_t bumped = 0, double bump = 0.0) {
+  std::vector<Vector3d> points;
+  std::vector<double> radii;
+  for (int k = 0; k <= 20; ++k) {
+    points.emplace_back(0.0, 0.0, 0.2 * k);
+    radii.push_back(0.1);
+  }
+  points[bumped].x() += bump;
+  return make_polyline(points, radii, 1e-9);
+}
+
+// Where the branch runs straight the tube lays a ring only where a band would grow longer than the
+// rule allows; with no such bound, none between its ends.
+TEST(Tube, LayRingsPutsRingsOnAStraightRunOnlyWhereABandWouldGrowTooLong) {
+  const Polyline pl = straight_branch();
+  ASSERT_EQ(pl.p.size(), 21u);
+  const Ring first = ring_at(pl, 0.0, 6), last = ring_at(pl, pl.length(), 6);
+  RingRule rule;
+  rule.eps = 1e-9;
+  std::vector<Ring> rings;
+  ASSERT_TRUE(lay_rings(pl, 0.0, pl.length(), first, last, 6, rule, rings));
+  EXPECT_EQ(rings.size(), 1u);
+  rule.longest_band = 0.5;
+  ASSERT_TRUE(lay_rings(pl, 0.0, pl.length(), first, last, 6, rule, rings));
+  ASSERT_EQ(rings.size(), 10u);  // at 0, 0.4, ..., 3.6: the band to the next point would be 0.6
+  for (std::size_t k = 0; k < rings.size(); ++k) EXPECT_NEAR(rings[k].centre.z(), 0.4 * double(k), 1e-9) << k;
+}
+
+// A point of the branch more than kStrayRadii of its radius off the straight axis keeps its ring
+// (the tube would leave the skeleton outside); one less far off does not.
+TEST(Tube, StraightPastOnlyWhereTheSkeletonStaysNearTheAxis) {
+  for (const double bump : {0.4, 0.6}) {
+    const Polyline pl = straight_branch(10, bump * 0.1);
+    const Ring prev = ring_at(pl, 0.0, 6), last = ring_at(pl, pl.length(), 6);
+    RingRule rule;
+    rule.eps = 1e-9;
+    EXPECT_EQ(straight_past(pl, prev, 0.0, 10, pl.length(), last, rule), bump == 0.4) << bump;  // kStrayRadii 0.5
+    EXPECT_TRUE(straight_past(pl, prev, 0.0, 8, pl.length(), last, rule)) << bump;  // not that far yet
+  }
+  // A radius off the straight taper by more than kTaperShare keeps the ring too.
+  std::vector<Vector3d> points;
+  std::vector<double> radii;
+  for (int k = 0; k <= 20; ++k) {
+    points.emplace_back(0.0, 0.0, 0.2 * k);
+    radii.push_back(k == 10 ? 0.105 : 0.1);
+  }
+  const Polyline swollen = make_polyline(points, radii, 1e-9);
+  RingRule rule;
+  rule.eps = 1e-9;
+  EXPECT_FALSE(straight_past(swollen, ring_at(swollen, 0.0, 6), 0.0, 10, swollen.length(), ring_at(swollen, swollen.length(), 6), rule));
+}
+
+TEST(Tube, TipArcLeavesTheTipsRingHalfARadiusShortOfItsEndAtMost) {
+  const Polyline pl = straight_branch();
+  EXPECT_NEAR(tip_arc(pl, 0.0), 4.0 - 0.05, 1e-12);  // 0.6 of the way would be 2.4: the tip keeps its length
+  EXPECT_NEAR(tip_arc(pl, 3.99), 3.99 + 0.6 * 0.01, 1e-12);
 }
 
 }  // namespace
