@@ -64,7 +64,35 @@ using detail::assemble;
 using detail::clearing_factor;
 using detail::crossing_parts;
 using detail::forks_up_to;
+/// A join's rings are pushed out from it, each step by how far its plane has another ring before
+/// it, this many times at most.
 constexpr int kMaxJunctionIterations = 80;
+/// A ring starts this many of its radii out from its join.
+constexpr double kFirstRingRadii = 0.25;
+/// Every other ring of a join lies behind a ring's plane by this many of its radii.
+constexpr double kRingClearanceRadii = 0.02;
+/// A ring whose plane faces another's moves by its overlap over (1 - the cosine between them), the
+/// divisor at least this: nearly facing rings move ten times their overlap a step, no more.
+constexpr double kLeastFacingDivisor = 0.1;
+/// How much of its branch's length a join's ring may take: a twig's (the rest is its tip's cone),
+/// the base chain's, and a chain's between two joins (less what the other join took).
+constexpr double kTwigRoom = 0.7;
+constexpr double kBaseRoom = 0.8;
+constexpr double kInnerRoom = 0.9;
+/// Where two arms' rings cannot clear each other at a narrow fork, both thin by this factor where
+/// they meet (their necks), up to `SweepOptions::max_necks` times.
+constexpr double kNeckFactor = 0.8;
+/// Which arm a join gives up when rings run out of room: how far past its room each has gone, a
+/// twig's counted this many times (twigs go first).
+constexpr double kTwigOverrunWeight = 2.0;
+/// A chain whose end rings leave less than this share of its length between them has no room.
+constexpr double kLeastRoomShare = 0.05;
+/// A tip's cone, and the cone closing a join left with one arm, reach at least this many radii
+/// past their ring.
+constexpr double kConeRadii = 0.25;
+/// The rings of the cap that closes the base, from the widest arm's radius down to a point: the
+/// first that lies behind every ring of the base's join is taken.
+constexpr std::array<double, 5> kBaseCapShares{1.0, 0.75, 0.5, 0.25, 0.0};
 /// A chain longer than this many radii between its end rings has room for its tube whatever way it
 /// turns (the rings laid along it are checked one against the next).
 constexpr double kRoomyChain = 4.0;
@@ -228,7 +256,7 @@ class Builder {
         // chain that doubles back within a few of its radii has none that lead it round).
         const double room = s1 - s0;
         std::vector<Ring> rings;
-        if (room > 0.05 * pl.length() &&
+        if (room > kLeastRoomShare * pl.length() &&
             (compatible(first, last, eps_) ||
              (room > kRoomyChain * std::max(first.radius, last.radius) &&
               (!(ja && jb) || straightened_[c] || lay_rings(pl, s0, s1, first, last, sides_[c], rule_, rings)))))
@@ -311,10 +339,10 @@ class Builder {
           arm.kind = Arm::inner;  // its room is set by solve(), from what the other join leaves
         } else if (forward) {
           arm.kind = Arm::leaf;
-          arm.available = 0.7 * length;
+          arm.available = kTwigRoom * length;
         } else {
           arm.kind = Arm::root;
-          arm.available = 0.8 * length;
+          arm.available = kBaseRoom * length;
         }
         clusters_[static_cast<std::size_t>(here)].arms.push_back(arm);
       }
@@ -337,7 +365,7 @@ class Builder {
     for (auto& arm : cl.arms) {
       const Polyline& pl = lines_[arm.chain];
       // An inner chain is shared with the join at its other end.
-      if (arm.kind == Arm::inner) arm.available = 0.9 * pl.length() - ring_d_[arm.chain][arm.forward ? 1 : 0];
+      if (arm.kind == Arm::inner) arm.available = kInnerRoom * pl.length() - ring_d_[arm.chain][arm.forward ? 1 : 0];
       arm.neck = 1.0;
       r_max = std::max(r_max, arm.forward ? pl.r.front() : pl.r.back());
     }
@@ -358,8 +386,8 @@ class Builder {
       if (!short_twig && neck_round < o_.max_necks) {
         // A narrow fork: both arms are thinned where they meet, so that their rings clear each
         // other close to the fork.
-        cl.arms[i].neck *= 0.8;
-        cl.arms[j].neck *= 0.8;
+        cl.arms[i].neck *= kNeckFactor;
+        cl.arms[j].neck *= kNeckFactor;
         continue;
       }
       // A twig is given up before two joins are merged.
@@ -377,7 +405,7 @@ class Builder {
   std::optional<std::size_t> place(Cluster& cl, double reach, std::vector<std::size_t>& partner) const {
     const std::size_t k = cl.arms.size();
     for (auto& arm : cl.arms)
-      arm.d = std::min(0.25 * lines_[arm.chain].r[arm.forward ? 0 : lines_[arm.chain].r.size() - 1], arm.available);
+      arm.d = std::min(kFirstRingRadii * lines_[arm.chain].r[arm.forward ? 0 : lines_[arm.chain].r.size() - 1], arm.available);
     for (int it = 0; it < kMaxJunctionIterations; ++it) {
       std::vector<std::pair<Ring, Vector3d>> rings;
       for (const auto& arm : cl.arms) rings.push_back(arm_ring(arm, arm.d));
@@ -394,9 +422,9 @@ class Builder {
             partner[i] = j;
           }
         }
-        const double margin = 0.02 * rings[i].first.radius + eps_;
+        const double margin = kRingClearanceRadii * rings[i].first.radius + eps_;
         if (worst + margin > 0.0) {
-          step[i] = (worst + margin) / std::max(1.0 - std::max(worst_cos, 0.0), 0.1);
+          step[i] = (worst + margin) / std::max(1.0 - std::max(worst_cos, 0.0), kLeastFacingDivisor);
           moved = true;
         }
       }
@@ -406,7 +434,7 @@ class Builder {
       for (std::size_t i = 0; i < k; ++i) {
         cl.arms[i].d += step[i];
         double over = cl.arms[i].d / std::max(std::min(cl.arms[i].available, reach), eps_);
-        if (cl.arms[i].kind == Arm::leaf) over *= 2.0;  // twigs first
+        if (cl.arms[i].kind == Arm::leaf) over *= kTwigOverrunWeight;
         if (over > 1.0 && over > worst_over) {
           worst_over = over;
           failed = i;
@@ -557,7 +585,7 @@ class Builder {
       const bool based = is_junction_[sk_.root] && uf.find(sk_.root) == id && add_base(cl, join, vertices);
       if (cl.arms.size() == 1 && !based) {  // every other arm left inside: a cone closes the branch
         const auto [ring, outward] = arm_ring(cl.arms.front(), cl.arms.front().d);
-        vertices.push_back(ring.centre - outward * std::max(0.25 * ring.radius, cl.arms.front().d));
+        vertices.push_back(ring.centre - outward * std::max(kConeRadii * ring.radius, cl.arms.front().d));
         join.points.emplace_back(vertices.back(), vertices.size() - 1);
       }
       joins.push_back(std::move(join));
@@ -608,7 +636,7 @@ class Builder {
         continue;
       }
       rings.push_back(last);
-      if (tube.tip) tube.apex_height = std::max((pl.p.back() - last.centre).dot(last.normal), 0.25 * last.radius);
+      if (tube.tip) tube.apex_height = std::max((pl.p.back() - last.centre).dot(last.normal), kConeRadii * last.radius);
       tubes.push_back(std::move(tube));
     }
     if (!attempt.shrink.empty()) return;
@@ -677,7 +705,7 @@ class Builder {
     base.normal = -outward;
     base.u = widest.u;
     base.sides = widest.sides;
-    for (const double share : {1.0, 0.75, 0.5, 0.25, 0.0}) {
+    for (const double share : kBaseCapShares) {
       base.radius = share * width(thick);
       if (!behind_rings(cl, base)) continue;
       for (int k = 0; k < (share > 0.0 ? base.sides : 1); ++k) {
@@ -695,7 +723,7 @@ class Builder {
   bool behind_rings(const Cluster& cl, const Ring& circle) const {
     return std::all_of(cl.arms.begin(), cl.arms.end(), [&](const Arm& arm) {
       const auto [ring, out] = arm_ring(arm, arm.d);
-      return reach_beyond(ring, out, circle) < -(0.02 * ring.radius + eps_);
+      return reach_beyond(ring, out, circle) < -(kRingClearanceRadii * ring.radius + eps_);
     });
   }
 
