@@ -144,6 +144,12 @@ double MeshDepth::operator()(const Eigen::Vector3d& p) const {
   return side == CGAL::ON_BOUNDED_SIDE ? d : -d;
 }
 
+Eigen::Vector3d MeshDepth::nearest(const Eigen::Vector3d& p) const {
+  if (tree_->aabb.empty()) return p;
+  const auto q = tree_->aabb.closest_point(GT::Point_3(p.x(), p.y(), p.z()));
+  return {CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z())};
+}
+
 namespace {
 
 /// Whether two closed pieces cross or one holds the other, as `PMP::do_intersect` with the overlap

@@ -46,6 +46,8 @@ class MeshDepth {
   MeshDepth& operator=(const MeshDepth&) = delete;
   /// The distance from `p` to the mesh's surface: positive inside, negative outside.
   double operator()(const Eigen::Vector3d& p) const;
+  /// The point of the mesh's surface nearest to `p` (`p` itself for a mesh without faces).
+  Eigen::Vector3d nearest(const Eigen::Vector3d& p) const;
 
  private:
   struct Tree;

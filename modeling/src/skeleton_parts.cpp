@@ -189,7 +189,7 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
 }
 
 Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, const DepthTest& depth,
-                  const std::vector<char>* swept, std::vector<NodeId>* members) {
+                  const std::vector<char>* swept, std::vector<NodeId>* members, const NearestTest& nearest) {
   const auto& whole_chain = tree.chains[static_cast<std::size_t>(tree.chain_of[top])].nodes;
   // From the fork, or, with `swept`, from the last node of the chain before `top` that the mesh holds.
   std::size_t start = 1;
@@ -338,6 +338,15 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
             radius = from->second;
           }
       }
+    }
+    // Still nowhere (a fork of seed 1's tree4_vdensity_3, completed, lay 1.5 cm outside the mesh: its
+    // parent's chain, 0.0033 thick, was swept straight around a skeleton that wandered from it): the
+    // stub goes straight from the fork through the nearest point of the mesh's surface to the stub's
+    // radius inside.
+    if (depth && nearest && !down && !meets()) {
+      const Vector3d on = nearest(at_fork);
+      const Vector3d in = on - at_fork;
+      if (in.norm() > 0.0) path.assign(1, Vector3d(on + in.normalized() * radius));
     }
     for (const Vector3d& position : path) {
       SkeletonNode node;

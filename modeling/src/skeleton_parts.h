@@ -45,9 +45,16 @@ std::vector<std::int64_t> relocate_narrow_branches(Skeleton& sk, double min_angl
 /// on its chain that the mesh holds: a branch the sweep re-attached elsewhere stays in the mesh and
 /// out of the piece of the branch it left. `members` receives the nodes of `skeleton` the piece
 /// holds beyond its fork.
+/// With `nearest` too (the point of that mesh's surface nearest to a point), a piece that still meets
+/// the mesh nowhere has its stub go straight from the fork through the nearest point of the mesh to
+/// the stub's radius inside it: the mesh holds the parent's branch elsewhere than along its skeleton
+/// (a chain swept straight from fork to fork, around a skeleton that wanders by several radii), and
+/// the piece would be written beside the tree.
 using DepthTest = std::function<double(const Eigen::Vector3d&)>;
+using NearestTest = std::function<Eigen::Vector3d(const Eigen::Vector3d&)>;
 Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, const DepthTest& depth = {},
-                  const std::vector<char>* swept = nullptr, std::vector<NodeId>* members = nullptr);
+                  const std::vector<char>* swept = nullptr, std::vector<NodeId>* members = nullptr,
+                  const NearestTest& nearest = {});
 
 /// The path through `nodes` of `sk` as a skeleton rooted at its first node.
 Skeleton path_of(const Skeleton& sk, const std::vector<NodeId>& nodes);

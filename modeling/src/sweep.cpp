@@ -1157,10 +1157,14 @@ TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& option
       if (!in_mesh) in_mesh.emplace(mesh);
       return (*in_mesh)(p);
     };
+    const detail::NearestTest nearest = [&](const Vector3d& p) {
+      if (!in_mesh) in_mesh.emplace(mesh);
+      return in_mesh->nearest(p);
+    };
     for (NodeId top : tops) {
       if (taken[top]) continue;
       std::vector<NodeId> members;
-      apart.push_back(piece_of(shape, tree, top, depth, &swept, &members));
+      apart.push_back(piece_of(shape, tree, top, depth, &swept, &members, nearest));
       for (NodeId v : members) taken[v] = true;
     }
     if (kept) *kept = kept_part(shape, tree, taken);

@@ -52,8 +52,16 @@ TEST(MeshUnion, MeshDepthIsTheSignedDistanceToTheSurface) {
   EXPECT_NEAR(depth(Eigen::Vector3d(0.05, 0, 1.0)), 0.05, 0.01);
   EXPECT_NEAR(depth(Eigen::Vector3d(0.3, 0, 1.0)), -0.2, 0.01);
   EXPECT_LT(depth(Eigen::Vector3d(0, 0, 2.5)), -0.45);  // above its top
+  // The nearest point of the surface: on it, as far as the depth says, and the point itself there.
+  for (const Eigen::Vector3d p : {Eigen::Vector3d(0.3, 0, 1.0), Eigen::Vector3d(0.05, 0, 1.0), Eigen::Vector3d(0, 0.4, 0.5)}) {
+    const Eigen::Vector3d q = depth.nearest(p);
+    EXPECT_NEAR(depth(q), 0.0, 1e-9);
+    EXPECT_NEAR((q - p).norm(), std::abs(depth(p)), 1e-9);
+    EXPECT_NEAR((depth.nearest(q) - q).norm(), 0.0, 1e-9);
+  }
   const detail::MeshDepth none{TreeMesh()};
   EXPECT_LT(none(Eigen::Vector3d::Zero()), -1e300);
+  EXPECT_EQ(none.nearest(Eigen::Vector3d(1, 2, 3)), Eigen::Vector3d(1, 2, 3));
 }
 
 // Two limbs that cross each other are united between themselves first, then with the trunk in one

@@ -331,6 +331,33 @@ TEST(SkeletonParts, AStubGoesStraightIntoAMeshThatPassesTheForkBy) {
   EXPECT_EQ(thin[thin.root].position, plain[plain.root].position);
 }
 
+// A mesh beyond all the stub's reach (the parent's chain swept straight, around a skeleton that
+// wandered from it by several radii: a fork of seed 1's tree4_vdensity_3, completed, lay 1.5 cm
+// outside the mesh): with the mesh's nearest points, the stub goes straight from the fork through
+// the nearest one to the stub's radius inside; without them, the piece stays as it was.
+TEST(SkeletonParts, AStubGoesThroughTheNearestPointOfAMeshBeyondItsReach) {
+  const BranchAtFork f(Eigen::Vector3d(0.5, 0, 1.5));
+  const Skeleton plain = piece_of(f.s, f.tree, f.tip);
+  const double radius = plain[plain.root].radius;
+  // A ball of radius 0.1 centred 0.5 beside the fork: 0.4 from it, beyond four fork radii (0.2); the
+  // parent's nodes and the branch's tube (0.35 from its centre) stay outside it.
+  const Eigen::Vector3d centre(0.5, 0, 1.0);
+  const auto ball = [centre](const Eigen::Vector3d& p) { return 0.1 - (p - centre).norm(); };
+  const auto nearest = [centre](const Eigen::Vector3d& p) { return Eigen::Vector3d(centre + 0.1 * (p - centre).normalized()); };
+  const Skeleton alone = piece_of(f.s, f.tree, f.tip, ball);
+  EXPECT_EQ(alone[alone.root].position, plain[plain.root].position);
+  const Skeleton piece = piece_of(f.s, f.tree, f.tip, ball, nullptr, nullptr, nearest);
+  EXPECT_TRUE(is_tree(piece.graph));
+  EXPECT_EQ(piece.node_count(), 1u + 1u + 20u);  // one stub node, the fork, the branch's 20
+  EXPECT_NEAR((piece[piece.root].position - Eigen::Vector3d(0.4 + radius, 0, 1.0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(ball(piece[piece.root].position), radius, 1e-12);
+  EXPECT_DOUBLE_EQ(piece[piece.root].radius, radius);
+  // A mesh the piece meets already keeps the stub it had.
+  const Skeleton near = piece_of(f.s, f.tree, f.tip, [](const Eigen::Vector3d& p) { return 0.78 - p.z(); }, nullptr, nullptr,
+                                 [](const Eigen::Vector3d& p) { return Eigen::Vector3d(p.x(), p.y(), 0.78); });
+  EXPECT_EQ(near[near.root].position, plain[plain.root].position);
+}
+
 // A mesh no point near the fork lies a stub's radius deep in (a parent's tube thinned by the repair
 // beside a fork 2.4 cm outside it: the LPine1 plot's tree 13): the stub comes from the deepest point
 // within reach, as thick as that point is deep, rather than leave the piece beside the tree.
