@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // Ring::vertex takes a cross product
 
 #include <cmath>
 #include <cstddef>
