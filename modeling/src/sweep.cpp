@@ -110,9 +110,7 @@ using UnionFind = DisjointSets<std::size_t>;
 
 class Builder {
  public:
-  /// Convex hulls of join points already computed: the points' coordinates, and the hull's
-  /// triangles as positions in that list (none when some point was not on the hull).
-  using HullCache = detail::HullCache;
+  using HullCache = detail::HullCache;  // the joins' hulls already computed (see tessellate.h)
 
   /// `fused`: pairs of forks (ids of `sk`) to make one join from the start (see sweep_attached).
   /// `longest_band`: the longest a band of a tube may run between two rings (0: no limit).
