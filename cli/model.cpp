@@ -241,6 +241,7 @@ int run(Settings& s) {
                {"pieces_nudged", sweep_stats.pieces_nudged},
                {"pieces_failed", sweep_stats.pieces_failed},
                {"welded_edges", sweep_stats.welded_edges},
+               {"voids_filled", sweep_stats.voids_filled},
                {"float_crossings", sweep_stats.float_crossings}};
   j["frame"] = {{"offset_left_out", {placed.left_out.x(), placed.left_out.y(), placed.left_out.z()}},
                 {"y_up_rotation", placed.y_up_rotation},

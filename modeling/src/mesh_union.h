@@ -24,6 +24,7 @@ struct UnionResult {
   std::size_t skipped = 0;       ///< pieces left out of the mesh: the budget of corefinements was spent
   std::size_t batches = 0;       ///< corefinements run (with the base or among the pieces)
   std::size_t welded = 0;        ///< edges shorter than the weld distance, collapsed
+  std::size_t voids = 0;         ///< pockets the pieces enclosed, filled (their inward surfaces removed)
 };
 
 /// A local coordinate as the 32-bit float a file holds in the frame `offset` leads to (local +
@@ -110,6 +111,7 @@ std::vector<std::size_t> canonical_vertex_order(const std::vector<std::array<dou
 /// group) follow in layers of pieces whose boxes do not overlap, a corefinement a layer; a layer
 /// the union refuses goes one piece at a time, and a piece refused alone is kept beside the mesh as
 /// a component of its own (counted in `failed`), never left out.
+/// Voids the union encloses between the pieces and `base` are filled (see `UnionResult::voids`).
 /// The result's points are rounded to 32-bit floats in the frame `offset` leads to (local + offset),
 /// and its edges shorter than `weld` collapsed (see `weld_short_edges`; within `where` if given).
 /// `pieces_tested`: the caller has tested every piece for self-intersections already (the sweep

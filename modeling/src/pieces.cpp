@@ -292,6 +292,7 @@ class Uniter {
     }
     if (united.apart.n_faces() > 0) apart_.push_back(std::move(united.apart));
     st_.welded_edges += welded;
+    st_.voids_filled += united.voids;
     st_.pieces_failed += united.skipped;
     st_.pieces -= std::min(st_.pieces, united.skipped);
     st_.pieces_apart += united.failed;
@@ -448,6 +449,7 @@ void add_counts(SweepStats& to, const SweepStats& from) {
   to.pieces_failed += from.pieces_failed;
   to.unions += from.unions;
   to.welded_edges += from.welded_edges;
+  to.voids_filled += from.voids_filled;
 }
 
 void take_counts(SweepStats& to, const SweepStats& from) {

@@ -240,6 +240,39 @@ TEST(MeshUnion, WeldsOnlyEdgesShorterThanTheDistance) {
   EXPECT_EQ(mesh.n_vertices(), before);
 }
 
+/// A closed, outward box from `lo` to `hi` (12 triangles).
+TreeMesh box_mesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  TreeMesh mesh;
+  std::vector<TreeMesh::VertexHandle> v;
+  for (int i = 0; i < 8; ++i)
+    v.push_back(mesh.add_vertex(TreeMesh::Point(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z())));
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    mesh.add_face(v[q[0]], v[q[1]], v[q[2]]);
+    mesh.add_face(v[q[0]], v[q[2]], v[q[3]]);
+  }
+  return mesh;
+}
+
+// Pieces that close a pocket of air with the tree leave its inward surface as a component of its
+// own (seed 4's tree5_missing_3: a tetrahedron 0.1 mm across); wood has no voids, and it is filled.
+TEST(MeshUnion, AVoidThePiecesEncloseIsFilled) {
+  // A hollow box of six slabs 0.2 thick, overlapping at the edges: the floor is the tree, the walls
+  // and the lid are pieces.
+  const TreeMesh floor = box_mesh({0, 0, 0}, {1, 1, 0.2});
+  const std::vector<TreeMesh> walls{box_mesh({0, 0, 0.1}, {0.2, 1, 1}), box_mesh({0.8, 0, 0.1}, {1, 1, 1}),
+                                    box_mesh({0.1, 0, 0.1}, {0.9, 0.2, 1}), box_mesh({0.1, 0.8, 0.1}, {0.9, 1, 1}),
+                                    box_mesh({0, 0, 0.8}, {1, 1, 1})};
+  ASSERT_TRUE(check_mesh(floor).ok());
+  const auto r = detail::unite(floor, walls, 1e-9);
+  EXPECT_EQ(r.united, walls.size());
+  EXPECT_EQ(r.voids, 1u);
+  const MeshCheck c = check_mesh(r.mesh);
+  EXPECT_TRUE(c.ok()) << c.problem();
+  EXPECT_EQ(c.components, 1u);
+  EXPECT_NEAR(c.volume, 1.0, 1e-6);  // the whole box: the 0.6 x 0.6 x 0.6 void is wood now
+}
+
 // Welding can be kept to boxes: a short edge outside them stays.
 TEST(MeshUnion, WeldsOnlyWithinTheBoxesGiven) {
   const TreeMesh tube = sweep_mesh(test::straight(2.0, 0.1, 20));

@@ -110,6 +110,7 @@ struct SweepStats {
   /// and 48 corefinements a union), or with `unite_apart` off.
   std::size_t pieces_failed = 0;
   std::size_t welded_edges = 0;    ///< edges shorter than `weld` collapsed after the union
+  std::size_t voids_filled = 0;    ///< pockets of air the united pieces enclosed, filled (see mesh_union.h)
   /// Face pairs that cross once the mesh is rounded to the 32-bit floats of the frame files hold
   /// (tested where pieces were united; the union adds none to what the tree had without them).
   std::size_t float_crossings = 0;
