@@ -8,6 +8,7 @@
 #include "tessellate.h"
 #include "mesh_union.h"
 #include "pieces.h"
+#include "repair.h"
 #include "skeleton_parts.h"
 #include "tube.h"
 
@@ -681,44 +682,25 @@ class Builder {
 /// apart and unite with this mesh. `swept` tells, by node, whether the mesh holds it.
 TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, const Vector3d& frame, const detail::TreeScale& whole,
                         SweepStats& st, std::vector<NodeId>& detached, std::vector<char>& swept) {
-  const double floor_radius = whole.floor_radius;
   const ChainTree tree = build_chains(skeleton);
   const auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
   double max_radius = 0.0;
   for (NodeId v = 0; v < n; ++v) max_radius = std::max(max_radius, g[v].radius);
-  std::vector<bool> keep(n, true);
-  std::vector<double> scale(n, 1.0);
-  std::vector<int> shrinks(n, 0);
-  std::vector<double> own_scale(n, 1.0);  // per subtree top: the thinning applied to it
-  auto drop = [&](NodeId top) {
-    for (NodeId v : subtree(tree.children, top)) keep[v] = false;
-  };
-  // The base chain (the one chain leaving a root with one child) is never swept apart: the rest of
-  // the tree hangs from it.
-  auto is_base = [&](NodeId top) {
-    return top == skeleton.root || (tree.parent[top] == skeleton.root && tree.children[skeleton.root].size() == 1);
-  };
+  // The wood a branch carries is its own frustums and all those above it, at the skeleton's radii.
+  detail::Thinning thinning(skeleton, tree, options, whole, edge_wood(skeleton, tree, whole.floor_radius), st, detached);
+  const auto& keep = thinning.keep();
+  const auto& scale = thinning.scale();
   const double thinnest = std::max(options.min_radius, options.min_relative_radius * max_radius);
-  // The wood a branch carries: its own frustums and all those above it, at the skeleton's radii.
-  const std::vector<double> wood = edge_wood(skeleton, tree, floor_radius);
-  auto carried_wood = [&](NodeId top) {
-    double sum = 0.0;
-    for (NodeId v : subtree(tree.children, top)) sum += wood[v];
-    return sum;
-  };
   for (const auto& c : tree.chains)
     if (keep[c.nodes[1]] && g[c.nodes[1]].radius < thinnest && c.nodes[1] != skeleton.root) {
-      drop(c.nodes[1]);
+      thinning.drop(c.nodes[1]);
       ++st.thin_left_out;
     }
   if (!keep[tree.chains.front().nodes[1]] && tree.children[skeleton.root].size() == 1)
     throw InputError("every branch is thinner than the minimum radius; nothing is left to mesh");
 
-
   Builder::HullCache hulls;
-  // Forks made one join after parts between them crossed (original ids, each pair once).
-  std::set<std::pair<NodeId, NodeId>> fused;
   const int max_attempts = 4 * static_cast<int>(n) + 50;
   std::optional<TreeMesh> best;
   for (int attempt_no = 0; attempt_no < max_attempts; ++attempt_no) {
@@ -758,7 +740,7 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
     std::vector<std::int64_t> pruned_of(n, -1);
     for (std::size_t v = 0; v < old_id.size(); ++v) pruned_of[old_id[v]] = static_cast<std::int64_t>(v);
     std::vector<std::pair<NodeId, NodeId>> fuse;
-    for (const auto& [x, y] : fused)
+    for (const auto& [x, y] : thinning.fused())
       if (pruned_of[x] >= 0 && pruned_of[y] >= 0)
         fuse.emplace_back(static_cast<NodeId>(pruned_of[x]), static_cast<NodeId>(pruned_of[y]));
     Builder builder(pruned, options, hulls, whole.longest_band, std::move(fuse));
@@ -770,100 +752,8 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
     st.twigs_absorbed = a.absorbed;
     st.joins_thinned = a.thinned;
     st.joins_dropped = a.dropped;
-    // Thins a subtree by `factor`, down to repair_shrink^max_shrinks of its radius (twice that power
-    // for a limb), then leaves it out (a limb is down to 0.7^6 = 12% of its radius by then); false
-    // when nothing changed (the trunk, which may not go, at its floor). A branch that carries
-    // `max_thinned_share` of the tree's wood or more is left out at once, to be swept apart at its
-    // own radii and united with the tree: thinning it thinned all it carries (a synthetic tree's
-    // limb that bore 89% of its crown was halved in radius, and its mesh held 0.39 of the true
-    // volume; swept apart and united, 0.80).
-    auto thin_or_drop = [&](NodeId top, double factor) {
-      const bool limb = g[top].radius >= whole.limb_radius;
-      if (!is_base(top) && whole.wood_volume > 0.0 && carried_wood(top) >= options.max_thinned_share * whole.wood_volume) {
-        drop(top);
-        for (NodeId v : subtree(tree.children, top)) detached.push_back(v);
-        ++st.repaired_dropped;
-        return true;
-      }
-      const int budget = (limb && !is_base(top) ? 2 : 1) * options.max_shrinks;
-      const double floor = std::pow(options.repair_shrink, budget);
-      const bool at_floor = own_scale[top] <= floor * (1.0 + 1e-9);
-      // A branch that would start thinner than the floor radius is swept apart too.
-      const bool too_thin = g[top].radius * own_scale[top] * factor < floor_radius * (1.0 - 1e-9);
-      if (own_scale[top] * factor < floor * (1.0 - 1e-9) || too_thin) {
-        // A twig is swept apart at once; a limb is first thinned to its floor.
-        if (!is_base(top) && (!limb || at_floor || too_thin)) {
-          drop(top);
-          for (NodeId v : subtree(tree.children, top)) detached.push_back(v);
-          ++st.repaired_dropped;
-          return true;
-        }
-        if (at_floor) return false;
-        factor = floor / own_scale[top];
-      }
-      for (NodeId v : subtree(tree.children, top)) scale[v] *= factor;
-      own_scale[top] *= factor;
-      ++shrinks[top];
-      ++st.repaired_shrunk;
-      return true;
-    };
-    auto shrink_or_drop = [&](NodeId top) { return thin_or_drop(top, options.repair_shrink); };
-    // Parts the mesh could not be built with (ids of `pruned`) are thinned, then left out.
-    auto shrink_failed = [&](const std::vector<NodeId>& failed) {
-      std::set<NodeId> tops;
-      for (NodeId v : failed) tops.insert(old_id[v]);
-      bool any = false;
-      for (NodeId top : tops) any |= shrink_or_drop(top);
-      if (!any) throw Error("could not sweep the trunk: it turns too sharply for its radius");
-    };
-    // Two crossing parts of one line of branches within a few radii of each other (a fold: see
-    // forks_up_to) make the forks between them one join, once: thinning the part above would thin
-    // all it carries, which near the base is the whole tree (a synthetic tree's trunk zigzagging
-    // over its first 5 cm was thinned to an eighth of its radius, its mesh 2% of its wood).
-    std::set<std::pair<NodeId, NodeId>> fused_now;  // in this round of repair
-    auto fuse_fold = [&](NodeId x, NodeId y, double radius) {
-      for (const auto& [low, high] : {std::pair{x, y}, std::pair{y, x}}) {
-        const auto forks = forks_up_to(skeleton, tree, low, high, options.join_reach * radius);
-        bool fresh = false;
-        for (std::size_t i = 1; i < forks.size(); ++i) {
-          const auto pair = std::minmax(forks[i - 1], forks[i]);
-          if (fused.insert(pair).second) fused_now.insert(pair);
-          fresh |= fused_now.count(pair) > 0;
-        }
-        if (fresh) return true;
-      }
-      return false;
-    };
-    // One round of repair: of each two crossing faces, the thinner part is thinned, or the other one
-    // once thinning the thinner twice has not cleared it. With `parts` (faces of the triangle soup),
-    // by what the parts' axes say clears them; else by repair_shrink. False when nothing changed.
-    auto repair = [&](const std::vector<std::pair<std::size_t, std::size_t>>& pairs, bool parts) {
-      ++st.repair_rounds;
-      fused_now.clear();
-      std::map<NodeId, double> factor;
-      bool any = false;
-      for (const auto& [f1, f2] : pairs) {
-        const bool first_thinner = a.owner_radius[f1] <= a.owner_radius[f2];
-        const NodeId thin = old_id[a.face_owner[first_thinner ? f1 : f2]];
-        const NodeId thick = old_id[a.face_owner[first_thinner ? f2 : f1]];
-        if (fuse_fold(thin, thick, std::max(a.owner_radius[f1], a.owner_radius[f2]))) {
-          any = true;
-          continue;
-        }
-        const bool swap = shrinks[thin] >= 2 && !is_base(thick) && shrinks[thick] < shrinks[thin];
-        double f = options.repair_shrink;
-        if (parts)
-          if (const auto clear = clearing_factor(a, a.face_part[first_thinner != swap ? f1 : f2], a.face_part[first_thinner != swap ? f2 : f1]))
-            f = std::max(*clear, options.repair_shrink * options.repair_shrink);
-        const auto [it, fresh] = factor.emplace(swap ? thick : thin, f);
-        if (!fresh) it->second = std::min(it->second, f);
-      }
-      for (const auto& [top, f] : factor)
-        if (keep[top]) any |= thin_or_drop(top, f);
-      return any;
-    };
     if (!a.shrink.empty()) {
-      shrink_failed(a.shrink);
+      thinning.shrink_failed(a.shrink, old_id);
       continue;
     }
     // Crossings are found and repaired on the triangles first (cheap: only parts whose boxes overlap
@@ -871,11 +761,11 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
     const bool may_repair = options.repair && st.repair_rounds < options.repair_rounds;
     if (may_repair) {
       const auto crossing = crossing_parts(a);
-      if (!crossing.empty() && repair(crossing, true)) continue;
+      if (!crossing.empty() && thinning.repair(crossing, true, a, old_id)) continue;
     }
     std::optional<TreeMesh> mesh = assemble(a);
     if (!mesh) {
-      shrink_failed(a.shrink);
+      thinning.shrink_failed(a.shrink, old_id);
       continue;
     }
     if (!options.repair) {
@@ -899,7 +789,7 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
       break;
     }
     ++st.late_repair_rounds;
-    if (!repair(pairs, false)) {
+    if (!thinning.repair(pairs, false, a, old_id)) {
       best = std::move(mesh);
       record_detached(pruned, old_id, a.detached);
       break;
