@@ -5,6 +5,7 @@
 #include "treeskel/geometry.h"
 #include "treeskel/modeling/chains.h"
 #include "attempt.h"
+#include "joins.h"
 #include "tessellate.h"
 #include "mesh_union.h"
 #include "pieces.h"
@@ -65,19 +66,13 @@ using detail::assemble;
 using detail::clearing_factor;
 using detail::crossing_parts;
 using detail::forks_up_to;
+using detail::Arm;
+using detail::Cluster;
 using detail::Join;
+using detail::kRingClearanceRadii;
+using detail::place_rings;
 using detail::tessellate;
 using detail::Tube;
-/// A join's rings are pushed out from it, each step by how far its plane has another ring before
-/// it, this many times at most.
-constexpr int kMaxJunctionIterations = 80;
-/// A ring starts this many of its radii out from its join.
-constexpr double kFirstRingRadii = 0.25;
-/// Every other ring of a join lies behind a ring's plane by this many of its radii.
-constexpr double kRingClearanceRadii = 0.02;
-/// A ring whose plane faces another's moves by its overlap over (1 - the cosine between them), the
-/// divisor at least this: nearly facing rings move ten times their overlap a step, no more.
-constexpr double kLeastFacingDivisor = 0.1;
 /// How much of its branch's length a join's ring may take: a twig's (the rest is its tip's cone),
 /// the base chain's, and a chain's between two joins (less what the other join took).
 constexpr double kTwigRoom = 0.7;
@@ -86,9 +81,6 @@ constexpr double kInnerRoom = 0.9;
 /// Where two arms' rings cannot clear each other at a narrow fork, both thin by this factor where
 /// they meet (their necks), up to `SweepOptions::max_necks` times.
 constexpr double kNeckFactor = 0.8;
-/// Which arm a join gives up when rings run out of room: how far past its room each has gone, a
-/// twig's counted this many times (twigs go first).
-constexpr double kTwigOverrunWeight = 2.0;
 /// A chain whose end rings leave less than this share of its length between them has no room.
 constexpr double kLeastRoomShare = 0.05;
 /// A tip's cone, and the cone closing a join left with one arm, reach at least this many radii
@@ -308,19 +300,6 @@ class Builder {
   }
 
  private:
-  struct Arm {
-    enum Kind { leaf, inner, root } kind = leaf;
-    std::size_t chain = 0;
-    bool forward = true;  // leaves its join at the chain's start (else at its end, toward the root)
-    double available = 0.0;
-    double d = 0.0;  // ring distance from the join along the chain
-    double neck = 1.0;  // ring radius factor at the join (below 1 at narrow forks)
-  };
-  struct Cluster {
-    std::vector<NodeId> nodes;
-    std::vector<Arm> arms;
-  };
-
   /// The arms of every join: the chains with exactly one end in it.
   void collect_arms(UnionFind& uf) {
     for (std::size_t c = 0; c < t_.chains.size(); ++c) {
@@ -353,10 +332,7 @@ class Builder {
 
   /// Ring of an arm at distance d from its join, and its outward normal.
   std::pair<Ring, Vector3d> arm_ring(const Arm& arm, double d) const {
-    const Polyline& pl = lines_[arm.chain];
-    Ring ring = ring_at(pl, arm.forward ? d : pl.length() - d, sides_[arm.chain]);
-    ring.radius *= arm.neck;
-    return {ring, arm.forward ? ring.normal : Vector3d(-ring.normal)};
+    return detail::arm_ring(arm, d, lines_[arm.chain], sides_[arm.chain]);
   }
 
   /// Pushes each arm's ring out until every ring's plane has all other rings behind it. Returns the
@@ -374,7 +350,7 @@ class Builder {
     const double reach = o_.join_reach * r_max;
     std::vector<std::size_t> partner(k, 0);  // the arm whose ring most crosses each arm's plane
     for (int neck_round = 0;; ++neck_round) {
-      const auto failed = place(cl, reach, partner);
+      const auto failed = place_rings(cl, reach, lines_, sides_, eps_, partner);
       if (!failed) {
         for (const auto& arm : cl.arms) {
           ring_d_[arm.chain][arm.forward ? 0 : 1] = arm.d;
@@ -402,53 +378,6 @@ class Builder {
     }
   }
 
-  /// Pushes each arm's ring out until every ring's plane has all other rings behind it, each ring
-  /// within `reach` of the join and its chain's room. Returns the arm that ran out of room.
-  std::optional<std::size_t> place(Cluster& cl, double reach, std::vector<std::size_t>& partner) const {
-    const std::size_t k = cl.arms.size();
-    for (auto& arm : cl.arms)
-      arm.d = std::min(kFirstRingRadii * lines_[arm.chain].r[arm.forward ? 0 : lines_[arm.chain].r.size() - 1], arm.available);
-    for (int it = 0; it < kMaxJunctionIterations; ++it) {
-      std::vector<std::pair<Ring, Vector3d>> rings;
-      for (const auto& arm : cl.arms) rings.push_back(arm_ring(arm, arm.d));
-      bool moved = false;
-      std::vector<double> step(k, 0.0);
-      for (std::size_t i = 0; i < k; ++i) {
-        double worst = -1e300, worst_cos = 0.0;
-        for (std::size_t j = 0; j < k; ++j) {
-          if (j == i) continue;
-          const double r = reach_beyond(rings[i].first, rings[i].second, rings[j].first);
-          if (r > worst) {
-            worst = r;
-            worst_cos = rings[i].second.dot(rings[j].second);
-            partner[i] = j;
-          }
-        }
-        const double margin = kRingClearanceRadii * rings[i].first.radius + eps_;
-        if (worst + margin > 0.0) {
-          step[i] = (worst + margin) / std::max(1.0 - std::max(worst_cos, 0.0), kLeastFacingDivisor);
-          moved = true;
-        }
-      }
-      if (!moved) return std::nullopt;
-      std::optional<std::size_t> failed;
-      double worst_over = 0.0;
-      for (std::size_t i = 0; i < k; ++i) {
-        cl.arms[i].d += step[i];
-        double over = cl.arms[i].d / std::max(std::min(cl.arms[i].available, reach), eps_);
-        if (cl.arms[i].kind == Arm::leaf) over *= kTwigOverrunWeight;
-        if (over > 1.0 && over > worst_over) {
-          worst_over = over;
-          failed = i;
-        }
-      }
-      if (failed) return failed;
-    }
-    std::size_t worst = 0;
-    for (std::size_t i = 1; i < k; ++i)
-      if (cl.arms[i].d / cl.arms[i].available > cl.arms[worst].d / cl.arms[worst].available) worst = i;
-    return worst;
-  }
 
   /// Whether the joins of forks `a` and `b` would, merged, still span at most `join_reach` radii
   /// of their thickest branch.
