@@ -452,11 +452,6 @@ class Builder {
 
   void build(UnionFind& uf, Attempt& attempt) {
     std::vector<Vector3d>& vertices = attempt.vertices;
-    auto add_ring = [&](const Ring& ring) {
-      const std::size_t first = vertices.size();
-      for (int k = 0; k < ring.sides; ++k) vertices.push_back(ring.vertex(k));
-      return first;
-    };
     // Rings at the joins, keyed by (chain, at its start?).
     struct JoinRing {
       double arc;
@@ -476,7 +471,7 @@ class Builder {
         const double arc = arm.forward ? arm.d : pl.length() - arm.d;
         const Ring ring = arm_ring(arm, arm.d).first;
         join.rings.push_back(ring);
-        join.first_vertex.push_back(add_ring(ring));
+        join.first_vertex.push_back(detail::add_ring(vertices, ring));
         join_ring[{arm.chain, arm.forward}] = {arc, join.first_vertex.back(), ring, joins.size()};
         join.radius = std::max(join.radius, ring.radius / arm.neck);  // the branch's, not its neck's
         if (!arm.forward) join.top = t_.chains[arm.chain].nodes.back();

@@ -67,6 +67,12 @@ void hull_faces(const std::vector<Ring>& rings, const std::vector<std::size_t>& 
 
 }  // namespace
 
+std::size_t add_ring(std::vector<Vector3d>& vertices, const Ring& ring) {
+  const std::size_t first = vertices.size();
+  for (int k = 0; k < ring.sides; ++k) vertices.push_back(ring.vertex(k));
+  return first;
+}
+
 void tessellate(const std::vector<Join>& joins, const std::vector<Tube>& tubes, HullCache& hulls, Attempt& attempt) {
   std::vector<Vector3d>& vertices = attempt.vertices;
   auto add_face = [&](std::size_t a, std::size_t b, std::size_t c, NodeId owner, double radius) {
@@ -78,11 +84,6 @@ void tessellate(const std::vector<Join>& joins, const std::vector<Tube>& tubes, 
   auto begin_part = [&](std::vector<std::size_t> rings, Attempt::Axis axis) {
     attempt.part_rings.push_back(std::move(rings));
     attempt.part_axis.push_back(axis);
-  };
-  auto add_ring = [&](const Ring& ring) {
-    const std::size_t first = vertices.size();
-    for (int k = 0; k < ring.sides; ++k) vertices.push_back(ring.vertex(k));
-    return first;
   };
   for (const Join& join : joins) {
     begin_part(join.first_vertex, {});
@@ -96,7 +97,7 @@ void tessellate(const std::vector<Join>& joins, const std::vector<Tube>& tubes, 
     const double radius = tube.rings.front().radius;
     std::vector<std::size_t> ids;
     if (tube.base) {
-      ids.push_back(add_ring(tube.rings.front()));
+      ids.push_back(add_ring(vertices, tube.rings.front()));
       begin_part({ids[0]}, {tube.rings.front().centre, tube.rings.front().centre, radius, tube_id});
       vertices.push_back(tube.rings.front().centre);
       const std::size_t centre = vertices.size() - 1;
@@ -104,8 +105,8 @@ void tessellate(const std::vector<Join>& joins, const std::vector<Tube>& tubes, 
     } else {
       ids.push_back(tube.first_vertex);
     }
-    for (std::size_t i = 1; i + 1 < tube.rings.size(); ++i) ids.push_back(add_ring(tube.rings[i]));
-    ids.push_back(tube.tip ? add_ring(tube.rings.back()) : tube.last_vertex);
+    for (std::size_t i = 1; i + 1 < tube.rings.size(); ++i) ids.push_back(add_ring(vertices, tube.rings[i]));
+    ids.push_back(tube.tip ? add_ring(vertices, tube.rings.back()) : tube.last_vertex);
     for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
       const std::size_t p = ids[i], q = ids[i + 1];
       // A band lies in the convex hull of its two rings: within the larger ring's radius of the

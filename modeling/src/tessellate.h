@@ -45,6 +45,9 @@ struct Join {
   double radius = 0.0;  ///< its thickest branch's
 };
 
+/// Appends `ring`'s vertices to `vertices`; returns the index of its first.
+std::size_t add_ring(std::vector<Eigen::Vector3d>& vertices, const Ring& ring);
+
 /// Adds the faces of `joins` and `tubes` to `attempt`, whose vertices already hold the join rings'
 /// (the ids in `Join::first_vertex`, `Tube::first_vertex` and `last_vertex`); the tubes' other rings,
 /// caps and apexes are added. Each join is a part, and each band, cap and cone of a tube is one, with

@@ -58,10 +58,7 @@ TEST(Tessellate, AJoinIsTheHullOfItsRingsOrAsksForItsTopToBeThinned) {
   join.top = 3;
   join.radius = 1.0;
   Attempt attempt;
-  for (const Ring& ring : join.rings) {
-    join.first_vertex.push_back(attempt.vertices.size());
-    for (int k = 0; k < ring.sides; ++k) attempt.vertices.push_back(ring.vertex(k));
-  }
+  for (const Ring& ring : join.rings) join.first_vertex.push_back(add_ring(attempt.vertices, ring));
   attempt.vertices.push_back(Vector3d(0, 0, 0.5));  // inside the hull
   join.points = {{attempt.vertices.back(), attempt.vertices.size() - 1}};
   HullCache hulls;
