@@ -300,7 +300,8 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
     // lies the stub's radius deep in the mesh (not past the fork below); if none within
     // `kStubNodes` does, it stays as it was. A piece that meets the mesh keeps its stub: from a
     // longer one, the tube of a branch that turns back cuts across the branch's first segment.
-    if (depth && !down && !path.empty() && !meets()) {
+    const bool met = !depth || down || meets();  // the stub as it is
+    if (!met && !path.empty()) {
       std::vector<Vector3d> longer;
       double thinner = radius;
       int nodes = 0;
@@ -343,7 +344,7 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
     // parent's chain, 0.0033 thick, was swept straight around a skeleton that wandered from it): the
     // stub goes straight from the fork through the nearest point of the mesh's surface to the stub's
     // radius inside.
-    if (depth && nearest && !down && !meets()) {
+    if (!met && nearest && !meets()) {
       const Vector3d on = nearest(at_fork);
       const Vector3d in = on - at_fork;
       if (in.norm() > 0.0) path.assign(1, Vector3d(on + in.normalized() * radius));
