@@ -1,6 +1,7 @@
 // How close the fitted radii come to known ones.
 //
-//   bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E]   (E: Leonardo exponent, 2 by default)
+//   bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E] [--stem-share-bound K] [--stiffness F]
+//   (E: Leonardo exponent, 2 by default; F: the limbs' stiffness, `treeskel model --stiffness`)
 //
 // - The paper's six synthetic trees (eval::make_paper_tree): the clean cloud of each (the paper's
 //   first point count) is skeletonized, radii fitted, and compared with the generating cylinders.
@@ -168,8 +169,9 @@ int main(int argc, char** argv) {
     else if (a == "--archi" && i + 1 < argc) archi = argv[++i];
     else if (a == "--exponent" && i + 1 < argc) radius_options.exponent = std::stod(argv[++i]);
     else if (a == "--stem-share-bound" && i + 1 < argc) radius_options.max_share_over_pipe = std::stod(argv[++i]);
+    else if (a == "--stiffness" && i + 1 < argc) radius_options.stiffness = std::stod(argv[++i]);
     else {
-      std::cout << "usage: bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E] [--stem-share-bound K]\n";
+      std::cout << "usage: bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E] [--stem-share-bound K] [--stiffness F]\n";
       return a == "-h" || a == "--help" ? 0 : 2;
     }
   }

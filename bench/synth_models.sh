@@ -12,10 +12,11 @@ if [ "${1:-}" = "--seed" ]; then seed=${2:?--seed needs a number}; shift 2; fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$build/cli/treeskel" synth "$work/clouds" --seed "$seed" -q
-# The true volume: the mesh of each true skeleton (a union, so the joins count once).
+# The true volume: the mesh of each true skeleton (a union, so the joins count once), along the true
+# path as it is (--stiffness 0).
 for truth in "$work"/clouds/*_truth.json; do
   tree=$(basename "$truth" _truth.json)
-  "$build/cli/treeskel" model "$truth" -q -o "$work/$tree.glb" --report "$work/$tree.truth.json" 2>/dev/null
+  "$build/cli/treeskel" model "$truth" -q --stiffness 0 -o "$work/$tree.glb" --report "$work/$tree.truth.json" 2>/dev/null
 done
 echo "| cloud | points | closed | manifold | components | self-intersections | volume / true | true skeleton inside | within 1% | seconds |"
 echo "|---|---:|---|---|---:|---:|---:|---:|---:|---:|"

@@ -203,7 +203,12 @@ int run(Settings& s) {
                 {"reliable_nodes", radius_stats.reliable},
                 {"from_stored_radii", radius_stats.used_stored},
                 {"exponent", s.radii.exponent},
-                {"stem_share_bound", s.radii.max_share_over_pipe}};
+                {"stem_share_bound", s.radii.max_share_over_pipe},
+                {"stiffness", s.radii.stiffness},
+                {"straightened_limbs", radius_stats.straightened.limbs},
+                {"straightened_nodes", radius_stats.straightened.moved},
+                {"largest_shift", radius_stats.straightened.largest_shift},
+                {"largest_shift_radii", radius_stats.straightened.largest_shift_radii}};
   const CompleteStats& grafted = radius_stats.completion;
   j["completion"] = {{"run", s.radii.complete && cloud.has_value()},
                      {"uncovered_points", grafted.uncovered_points},

@@ -24,6 +24,11 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
                "that take in needles, leaves or scattered points come out as wide as the stem; unbounded, the stem "
                "above such forks thins far faster than its points (docs/models.md)")
       ->default_val(r.max_share_over_pipe)->check(off_or_at_least(1.0))->group(g);
+  c.add_option("--stiffness", r.stiffness,
+               "Smooth each limb's path over K times its radius once the radii are fitted: a trunk or limb then "
+               "bends no more sharply than its thickness allows, where a sparse scan's skeleton wandered from twig "
+               "to twig; twigs keep their bends (0: the skeleton's path as it is)")
+      ->default_val(r.stiffness)->check(not_negative())->group(g);
   c.add_option("--fit-points", r.min_points, "Fewest points of a node for its radius to be measured by a circle fit")
       ->default_val(r.min_points)->check(in_range(3, 100000))->group(g);
   c.add_option("--segments", w.trunk_segments, "Polygon sides around the trunk; thinner branches get fewer")

@@ -50,9 +50,10 @@ def test_model_equals_the_commands(exe, data, tmp_path):
     assert mesh.vertices.shape == (check["vertices"], 3)
     assert mesh.faces.max() < len(mesh.vertices)
     # The stages one at a time give the same as model().
-    again = treeskel.tree_mesh(treeskel.fit_radii(treeskel.extract_skeleton(treeskel.read_cloud(str(data / "tree_rtwig.txt"))), exponent=2.2), local=True)
+    fitted = treeskel.fit_radii(treeskel.extract_skeleton(treeskel.read_cloud(str(data / "tree_rtwig.txt"))), exponent=2.2)
+    again = treeskel.tree_mesh(fitted, local=True)
     assert np.array_equal(again.faces, mesh.faces) and np.array_equal(again.vertices, mesh.vertices)
-    assert np.array_equal(skeleton.radii, treeskel.fit_radii(skeleton, exponent=2.2).radii)
+    assert np.array_equal(skeleton.radii, fitted.radii) and np.array_equal(skeleton.positions, fitted.positions)
 
 
 def test_stem_share_bound_as_the_command(exe, data, tmp_path):
@@ -83,8 +84,11 @@ def test_model_warns_as_the_command_does(data):
 def test_tree_mesh_warns_of_limbs_left_out(data):
     # Far bridging of parts of ten points or more, as the default was until 5 December 2026: its
     # skeleton has a limb (15% of its length) that finds no room at its fork. (With the default of 3
-    # the limbs left out hold 3.5% of the length, under what the summary warns of.)
-    skeleton = treeskel.fit_radii(treeskel.extract_skeleton(str(data / "tree_adtree1.xyz"), far_bridge_points=10))
+    # the limbs left out hold 3.5% of the length, under what the summary warns of; and with the limbs
+    # straightened, as `fit_radii` does by default since 6 December 2026, 1%: stiffness=0 keeps the
+    # skeleton's path.)
+    skeleton = treeskel.fit_radii(treeskel.extract_skeleton(str(data / "tree_adtree1.xyz"), far_bridge_points=10),
+                                  stiffness=0)
     # Limbs not united (no_unite) are left out, and with them much of the skeleton: said, as the
     # command says it, though tree_mesh measures nothing.
     with pytest.warns(UserWarning) as said:

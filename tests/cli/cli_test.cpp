@@ -280,6 +280,37 @@ TEST(Cli, ModelCompleteGrowsBranchesThroughThePointsItPassedBy) {
   EXPECT_NE(saved.out.find("--complete needs the cloud's points"), std::string::npos) << saved.out;
 }
 
+// The limbs are straightened by default (stiffness 2, in the report, with what moved); --stiffness 0
+// keeps the skeleton's path, node for node what `model --skeleton` writes; a negative one is refused.
+TEST(Cli, ModelStraightensTheLimbsUnlessTheStiffnessIsZero) {
+  test::TempDir dir;
+  const std::string cloud = test::data_file("tree_adtree1.xyz");
+  const Result straight = run("model " + cloud + " -o a.ply --skeleton a.json --json", dir.root());
+  ASSERT_EQ(straight.code, 0) << straight.out;
+  const auto j = nlohmann::json::parse(straight.out)["radii"];
+  EXPECT_EQ(j["stiffness"].get<double>(), 2.0);
+  EXPECT_GT(j["straightened_nodes"].get<int>(), 0);
+  EXPECT_GT(j["largest_shift"].get<double>(), 0.0);
+  const Result kept = run("model " + cloud + " -o b.ply --skeleton b.json --stiffness 0 --json", dir.root());
+  ASSERT_EQ(kept.code, 0) << kept.out;
+  EXPECT_EQ(nlohmann::json::parse(kept.out)["radii"]["straightened_nodes"].get<int>(), 0);
+  const Result plain = run("skeletonize " + cloud + " -o c.json", dir.root());
+  ASSERT_EQ(plain.code, 0) << plain.out;
+  const Skeleton a = io::read_skeleton(dir.path("a.json")), b = io::read_skeleton(dir.path("b.json")),
+                 c = io::read_skeleton(dir.path("c.json"));
+  ASSERT_EQ(a.node_count(), c.node_count());
+  ASSERT_EQ(b.node_count(), c.node_count());
+  std::size_t moved = 0;
+  for (NodeId v = 0; v < c.node_count(); ++v) {
+    EXPECT_LT((b[v].position - c[v].position).norm(), 1e-3) << v;  // the JSON's digits
+    if ((a[v].position - c[v].position).norm() > 1e-3) ++moved;
+  }
+  EXPECT_GT(moved, 100u);
+  const Result refused = run("model " + cloud + " --stiffness -1 -o bad.ply", dir.root());
+  EXPECT_EQ(refused.code, 2) << refused.out;
+  EXPECT_NE(refused.out.find("--stiffness"), std::string::npos) << refused.out;
+}
+
 // The stem's shares are bounded by default (4, in the report); --stem-share-bound 0 turns the bound
 // off and changes the radii; a bound under 1 is refused by name.
 TEST(Cli, ModelBoundsTheStemsSharesUnlessTurnedOff) {

@@ -43,7 +43,11 @@ Skeleton extract_bundled_skeleton(const std::string& name) {
     options.graph.bridge_rounds = 1;
   }
   Skeleton s = extract_skeleton(cloud, options);
-  modeling::fit_radii(s, &cloud);
+  // The path as the skeleton has it (no straightening of the limbs, the default since 6 December
+  // 2026) where the sweep's cases were found.
+  modeling::RadiusOptions radii;
+  if (whole_depths) radii.stiffness = 0.0;
+  modeling::fit_radii(s, &cloud, radii);
   return s;
 }
 

@@ -14,8 +14,9 @@ namespace treeskel::test {
 
 /// The skeleton of the bundled cloud `name` (e.g. "tree_rtwig.txt"), default options, radii fitted
 /// to the cloud. Node point lists are not kept. With "@whole-depths" after the name: the octree's
-/// cells of whole depths only (`OctreeOptions::depth_steps` 1) and far bridging of parts of ten
-/// points or more, the skeleton some sweep cases were found on.
+/// cells of whole depths only (`OctreeOptions::depth_steps` 1), far bridging of parts of ten points
+/// or more and the limbs not straightened (`RadiusOptions::stiffness` 0): the skeleton some sweep
+/// cases were found on.
 Skeleton bundled_skeleton(const std::string& name);
 
 /// Extracts the skeleton of the bundled cloud `name` (what bundled_skeleton returns without fixtures).

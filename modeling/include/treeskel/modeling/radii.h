@@ -4,6 +4,7 @@
 #pragma once
 
 #include "treeskel/complete.h"
+#include "treeskel/modeling/straighten.h"
 #include "treeskel/point_cloud.h"
 #include "treeskel/skeleton.h"
 
@@ -67,6 +68,11 @@ struct RadiusOptions {
   bool complete = false;
   CompleteOptions completion;  ///< its automatic (0) scales follow `cell_size`
   double cell_size = 0.0;      ///< the octree cell size the skeleton was extracted with
+  /// Last, each limb's path is smoothed over a length of this many times its radius
+  /// (`straighten_limbs`): thick limbs no longer zigzag where a sparse scan's level sets wandered,
+  /// twigs keep their bends. 0: the skeleton's path as it is. Chosen on the real and synthetic
+  /// clouds (docs/models.md, "Limbs as stiff as their thickness"). `treeskel model --stiffness`.
+  double stiffness = 2.0;
 };
 
 /// Whether a circle fit is reliable enough to steer the radii: a radius, an rms residual within
@@ -79,6 +85,7 @@ struct RadiusStats {
   std::size_t reliable = 0;  ///< of them, fits reliable enough to steer the radii
   bool used_stored = false;  ///< no cloud points: the skeleton's own radii were taken as measurements
   CompleteStats completion;  ///< what `complete` grafted (zeros when it did not run)
+  StraightenStats straightened;  ///< what the limbs' smoothing moved (zeros when it did not run)
 };
 
 /// Least-squares circle fit of one node's points in the plane across its branch; see
