@@ -1,6 +1,7 @@
 #include "treeskel/modeling/radii.h"
 
 #include "treeskel/error.h"
+#include "treeskel/modeling/base.h"
 #include "treeskel/modeling/chains.h"
 
 #include <Eigen/Dense>
@@ -386,6 +387,8 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
     if (grafted.nodes > 0) fit_radii_once(skeleton, cloud, options, stats);
     if (stats) stats->completion = grafted;
   }
+  const double lowered = cloud ? reach_down(skeleton, *cloud) : 0.0;
+  if (stats) stats->base_lowered = lowered;
   const StraightenStats straightened = straighten_limbs(skeleton, options.stiffness);
   if (stats) stats->straightened = straightened;
 }

@@ -281,7 +281,8 @@ TEST(Cli, ModelCompleteGrowsBranchesThroughThePointsItPassedBy) {
 }
 
 // The limbs are straightened by default (stiffness 2, in the report, with what moved); --stiffness 0
-// keeps the skeleton's path, node for node what `model --skeleton` writes; a negative one is refused.
+// keeps the skeleton's path, node for node what `skeletonize` writes but the root, which goes down
+// its trunk to where its points end (in the report too); a negative stiffness is refused.
 TEST(Cli, ModelStraightensTheLimbsUnlessTheStiffnessIsZero) {
   test::TempDir dir;
   const std::string cloud = test::data_file("tree_adtree1.xyz");
@@ -301,7 +302,12 @@ TEST(Cli, ModelStraightensTheLimbsUnlessTheStiffnessIsZero) {
   ASSERT_EQ(a.node_count(), c.node_count());
   ASSERT_EQ(b.node_count(), c.node_count());
   std::size_t moved = 0;
+  const double lowered = nlohmann::json::parse(kept.out)["radii"]["base_lowered"].get<double>();
+  EXPECT_GT(lowered, 0.0);
+  EXPECT_NEAR((b[b.root].position - c[c.root].position).norm(), lowered, 1e-3);
+  EXPECT_LT(b[b.root].position.z(), c[c.root].position.z());
   for (NodeId v = 0; v < c.node_count(); ++v) {
+    if (v == c.root) continue;
     EXPECT_LT((b[v].position - c[v].position).norm(), 1e-3) << v;  // the JSON's digits
     if ((a[v].position - c[v].position).norm() > 1e-3) ++moved;
   }

@@ -85,6 +85,7 @@ struct RadiusStats {
   std::size_t reliable = 0;  ///< of them, fits reliable enough to steer the radii
   bool used_stored = false;  ///< no cloud points: the skeleton's own radii were taken as measurements
   CompleteStats completion;  ///< what `complete` grafted (zeros when it did not run)
+  double base_lowered = 0.0;     ///< how far `reach_down` moved the root (0 without a cloud)
   StraightenStats straightened;  ///< what the limbs' smoothing moved (zeros when it did not run)
 };
 
@@ -109,7 +110,9 @@ std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, cons
 ///   the rule fills in twigs and occluded parts.
 /// Without a cloud (`cloud == nullptr`, e.g. a skeleton read from a file) the skeleton's own radii
 /// are the measurements. With `options.complete` and a cloud, the skeleton gains the grafted
-/// branches (see `RadiusOptions::complete`) and every radius is fitted again with them.
+/// branches (see `RadiusOptions::complete`) and every radius is fitted again with them. Then, with a
+/// cloud, the root goes down its trunk to where its points end (`reach_down`), and last each limb's
+/// path is smoothed (`RadiusOptions::stiffness`, `straighten_limbs`): nodes move, radii stay.
 /// @throws InputError when the skeleton is empty or not a tree, or nothing gives a positive radius.
 /// @throws OptionError for an exponent outside [1, 4], or `complete` with a cloud but no cell size.
 void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options = {},

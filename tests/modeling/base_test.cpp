@@ -1,0 +1,69 @@
+#include "model_fixtures.h"
+#include "treeskel/modeling/base.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace treeskel::modeling {
+namespace {
+
+/// A trunk of radius 0.1 along `axis` from the origin, 2 m long, nodes 5 cm apart; the root's points
+/// lie on its bark from `from` to `to` along the axis (the root is at 0).
+struct Trunk {
+  Skeleton skeleton;
+  PointCloud cloud;
+};
+
+Trunk trunk(const Eigen::Vector3d& axis, double from, double to, int points = 200) {
+  Trunk t;
+  SkeletonNode root;
+  root.radius = 0.1;
+  t.skeleton.root = add_node(t.skeleton, root);
+  test::add_run(t.skeleton, t.skeleton.root, 2.0 * axis.normalized(), 0.1, 40);
+  const Eigen::Vector3d a = axis.normalized();
+  const Eigen::Vector3d u = a.unitOrthogonal(), v = a.cross(u);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI), along(from, to);
+  for (int i = 0; i < points; ++i) {
+    const double phi = angle(rng);
+    t.cloud.positions.push_back(along(rng) * a + 0.1 * (std::cos(phi) * u + std::sin(phi) * v));
+    t.skeleton[t.skeleton.root].points.push_back(static_cast<std::uint32_t>(i));
+  }
+  return t;
+}
+
+TEST(Base, TheRootGoesDownItsTrunkToWhereItsPointsEnd) {
+  for (const Eigen::Vector3d axis : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 1)}) {
+    Trunk t = trunk(axis, -0.12, 0.08);
+    const double moved = reach_down(t.skeleton, t.cloud);
+    // The points' distances below the root spread evenly from -0.08 to 0.12: their 95th percentile
+    // is about 0.11.
+    EXPECT_NEAR(moved, 0.11, 0.008);
+    const Eigen::Vector3d at = t.skeleton[t.skeleton.root].position;
+    EXPECT_NEAR(at.norm(), moved, 1e-12);
+    EXPECT_NEAR(at.normalized().dot(-axis.normalized()), 1.0, 1e-9);  // straight down the axis
+    // The other nodes stay.
+    EXPECT_EQ(t.skeleton[1].position, (2.0 / 40) * axis.normalized());
+  }
+}
+
+TEST(Base, NothingMovesWithoutPointsBelowTheRoot) {
+  Trunk above = trunk(Eigen::Vector3d(0, 0, 1), 0.01, 0.1);
+  EXPECT_EQ(reach_down(above.skeleton, above.cloud), 0.0);
+  EXPECT_EQ(above.skeleton[above.skeleton.root].position, Eigen::Vector3d::Zero());
+  Trunk few = trunk(Eigen::Vector3d(0, 0, 1), -0.1, 0.0, 2);
+  EXPECT_EQ(reach_down(few.skeleton, few.cloud), 0.0);
+  Trunk none = trunk(Eigen::Vector3d(0, 0, 1), -0.1, 0.0, 0);
+  EXPECT_EQ(reach_down(none.skeleton, none.cloud), 0.0);
+}
+
+TEST(Base, TheRootMovesAtMostFourOfItsRadii) {
+  Trunk deep = trunk(Eigen::Vector3d(0, 0, 1), -1.0, -0.9);
+  EXPECT_NEAR(reach_down(deep.skeleton, deep.cloud), 0.4, 1e-12);
+  EXPECT_NEAR(deep.skeleton[deep.skeleton.root].position.z(), -0.4, 1e-12);
+}
+
+}  // namespace
+}  // namespace treeskel::modeling
