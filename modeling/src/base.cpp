@@ -1,6 +1,6 @@
 #include "treeskel/modeling/base.h"
 
-#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <vector>
@@ -11,10 +11,15 @@ namespace {
 
 /// The share of the root's points whose distance below it sets the base (the rest may be stray).
 constexpr double kBaseQuantile = 0.95;
-/// The trunk's axis is taken from the root to the first node at least this many root radii up.
-constexpr double kAxisRadii = 2.0;
-/// The root moves down by at most this many root radii.
+/// The trunk's axis is the line through the nodes of the thickest path up to this many root radii
+/// from the root.
+constexpr double kAxisRadii = 6.0;
+/// The root moves by at most this many root radii.
 constexpr double kMostRadii = 4.0;
+/// The trunk's axis must point down within this angle (its cosine) of the way from the skeleton's
+/// centre to its root: the tree stands above its root, and a base that wanders sideways (roots,
+/// ground) gives no axis to go down.
+constexpr double kLeastDownCosine = 0.7071;
 
 }  // namespace
 
@@ -25,8 +30,10 @@ double reach_down(Skeleton& skeleton, const PointCloud& cloud) {
   const double radius = g[root].radius;
   const auto& points = g[root].points;
   if (points.size() < 3 || !(radius > 0.0)) return 0.0;
-  // Up the thickest path to the first node far enough to show the trunk's direction.
+  // The trunk's nodes: up the thickest path from the root (not the root itself, which may lie beside
+  // the axis).
   const auto parent = parents_from_root(g, root);
+  std::vector<Eigen::Vector3d> trunk;
   NodeId at = root;
   double along = 0.0;
   while (along < kAxisRadii * radius) {
@@ -40,19 +47,35 @@ double reach_down(Skeleton& skeleton, const PointCloud& cloud) {
     if (next == at) break;  // a tip
     along += (g[next].position - g[at].position).norm();
     at = next;
+    trunk.push_back(g[at].position);
   }
-  const Eigen::Vector3d axis = g[root].position - g[at].position;
-  if (!(axis.norm() > 0.0)) return 0.0;
-  const Eigen::Vector3d down = axis.normalized();
+  if (trunk.size() < 3 || !(along > 0.0)) return 0.0;
+  // Its axis: the principal direction of those nodes, pointing down (from the far end to the root).
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& p : trunk) centre += p;
+  centre /= static_cast<double>(trunk.size());
+  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
+  for (const auto& p : trunk) spread += (p - centre) * (p - centre).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(spread);
+  Eigen::Vector3d down = eigen.eigenvectors().col(2);
+  if (down.dot(g[root].position - trunk.back()) < 0.0) down = -down;
+  Eigen::Vector3d middle = Eigen::Vector3d::Zero();
+  for (NodeId v = 0; v < skeleton.node_count(); ++v) middle += g[v].position;
+  middle /= static_cast<double>(skeleton.node_count());
+  const Eigen::Vector3d fall = g[root].position - middle;
+  if (!(fall.norm() > 0.0) || down.dot(fall.normalized()) < kLeastDownCosine) return 0.0;
+  // Where the root's points end along that axis; the root goes onto the axis there, never up.
   std::vector<double> below;
   below.reserve(points.size());
-  for (auto i : points) below.push_back((cloud.positions[i] - g[root].position).dot(down));
+  for (auto i : points) below.push_back((cloud.positions[i] - centre).dot(down));
   const auto k = static_cast<std::size_t>(kBaseQuantile * static_cast<double>(below.size() - 1));
   std::nth_element(below.begin(), below.begin() + static_cast<std::ptrdiff_t>(k), below.end());
-  const double move = std::min(below[k], kMostRadii * radius);
-  if (!(move > 0.0)) return 0.0;
-  skeleton[root].position += move * down;
-  return move;
+  const double level = std::max(below[k], (g[root].position - centre).dot(down));
+  const Eigen::Vector3d base = centre + level * down;
+  const Eigen::Vector3d move = base - g[root].position;
+  if (!(move.norm() > 0.0) || move.norm() > kMostRadii * radius) return 0.0;
+  skeleton[root].position = base;
+  return move.norm();
 }
 
 }  // namespace treeskel::modeling

@@ -59,10 +59,40 @@ TEST(Base, NothingMovesWithoutPointsBelowTheRoot) {
   EXPECT_EQ(reach_down(none.skeleton, none.cloud), 0.0);
 }
 
-TEST(Base, TheRootMovesAtMostFourOfItsRadii) {
+TEST(Base, ARootBesideItsTrunkGoesOntoItsAxis) {
+  // The level sets put the root 6 cm to the side, at the median of a flared base.
+  Trunk t = trunk(Eigen::Vector3d(0, 0, 1), -0.1, 0.05);
+  t.skeleton[t.skeleton.root].position = Eigen::Vector3d(0.06, 0.0, 0.0);
+  const double moved = reach_down(t.skeleton, t.cloud);
+  const Eigen::Vector3d at = t.skeleton[t.skeleton.root].position;
+  EXPECT_LT(at.head<2>().norm(), 0.01);
+  EXPECT_NEAR(at.z(), -0.0925, 0.008);  // the 95th percentile of 0.1 below and 0.05 above
+  EXPECT_NEAR(moved, (at - Eigen::Vector3d(0.06, 0.0, 0.0)).norm(), 1e-12);
+}
+
+TEST(Base, ARootWhoseTrunkRunsSidewaysStays) {
+  // A path that leaves the root sideways (along the ground, 0.6 m) before it rises 2 m: the axis near
+  // the root is horizontal, not the way down.
+  Skeleton s;
+  SkeletonNode root;
+  root.radius = 0.1;
+  s.root = add_node(s, root);
+  const NodeId corner = test::add_run(s, s.root, Eigen::Vector3d(0.6, 0, 0), 0.1, 12);
+  test::add_run(s, corner, Eigen::Vector3d(0.6, 0, 2.0), 0.1, 40);
+  PointCloud cloud;
+  for (int i = 0; i < 50; ++i) {
+    cloud.positions.emplace_back(-0.002 * i, 0.05 * std::cos(i), 0.05 * std::sin(i));
+    s[s.root].points.push_back(static_cast<std::uint32_t>(i));
+  }
+  EXPECT_EQ(reach_down(s, cloud), 0.0);
+  EXPECT_EQ(s[s.root].position, Eigen::Vector3d::Zero());
+}
+
+TEST(Base, ARootFarAboveItsPointsStays) {
+  // Points a metre below a root of radius 0.1: not the trunk's base; nothing moves.
   Trunk deep = trunk(Eigen::Vector3d(0, 0, 1), -1.0, -0.9);
-  EXPECT_NEAR(reach_down(deep.skeleton, deep.cloud), 0.4, 1e-12);
-  EXPECT_NEAR(deep.skeleton[deep.skeleton.root].position.z(), -0.4, 1e-12);
+  EXPECT_EQ(reach_down(deep.skeleton, deep.cloud), 0.0);
+  EXPECT_EQ(deep.skeleton[deep.skeleton.root].position, Eigen::Vector3d::Zero());
 }
 
 }  // namespace
