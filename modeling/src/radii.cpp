@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
 #include <tuple>
 
@@ -193,7 +194,8 @@ std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, cons
 
 namespace {
 
-void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options, RadiusStats* stats) {
+void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options, RadiusStats* stats,
+                    NodeId light_from = std::numeric_limits<NodeId>::max()) {
   if (!(options.exponent >= 1.0 && options.exponent <= 4.0))
     throw OptionError("the Leonardo exponent must be between 1 and 4");
   if (options.start_share <= 0.0 || options.start_share > 1.0) throw OptionError("the start share must be in (0, 1]");
@@ -216,6 +218,7 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
       if (g[v].radius > 0.0 && std::isfinite(g[v].radius)) measured[v] = {g[v].radius, 1.0};
     local.used_stored = true;
   }
+  for (NodeId v = light_from; v < n; ++v) measured[v] = {};
   for (const auto& m : measured) {
     local.measured += m.radius > 0.0;
     local.reliable += m.weight > 0.0;
@@ -232,7 +235,7 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
   // classic pipe model (one unit pipe per tip); the length term lets twigs taper.
   std::vector<double> leaf_lengths;
   for (const auto& c : t.chains)
-    if (t.children[c.nodes.back()].empty()) leaf_lengths.push_back(chain_length(skeleton, c));
+    if (t.children[c.nodes.back()].empty() && c.nodes.back() < light_from) leaf_lengths.push_back(chain_length(skeleton, c));
   double tip = 0.0;
   if (!leaf_lengths.empty()) {
     std::nth_element(leaf_lengths.begin(), leaf_lengths.begin() + leaf_lengths.size() / 2, leaf_lengths.end());
@@ -240,6 +243,7 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
   }
   if (!(tip > 0.0)) tip = 1e-9;
   std::vector<double> carried(n, tip);
+  for (NodeId v = light_from; v < n; ++v) carried[v] = 1e-9 * tip;
   const auto order = bfs_order(g, skeleton.root);
   for (auto it = order.rbegin(); it != order.rend(); ++it) {
     const NodeId v = *it;
@@ -383,8 +387,9 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
     throw OptionError("the limbs' stiffness must be 0 or positive");
   fit_radii_once(skeleton, cloud, options, stats);
   if (complete) {
+    const NodeId before = skeleton.node_count();
     const CompleteStats grafted = complete_skeleton(skeleton, *cloud, options.cell_size, options.completion);
-    if (grafted.nodes > 0) fit_radii_once(skeleton, cloud, options, stats);
+    if (grafted.nodes > 0) fit_radii_once(skeleton, cloud, options, stats, before);
     if (stats) stats->completion = grafted;
   }
   const double lowered = cloud ? reach_down(skeleton, *cloud) : 0.0;

@@ -156,7 +156,9 @@ TEST(FitRadii, RefusesBadInput) {
 }
 
 // With `complete`, a twig whose points the skeleton passed by becomes a branch, and the radii are
-// fitted again with it: the pipe model holds at the new fork. Without the cell size it is refused.
+// fitted again with it: the pipe model holds at the new fork. The grafted twig carries its own length
+// only (no tip allowance, its circle fits unused), so the trunk above the fork keeps nearly all of its
+// cross section (with a tip's allowance the twig took half of it). Without the cell size it is refused.
 TEST(FitRadii, CompletingGrowsATwigAndFitsItsRadii) {
   Skeleton s = test::straight(2.0, 0.05, 20);
   PointCloud cloud;
@@ -177,6 +179,8 @@ TEST(FitRadii, CompletingGrowsATwigAndFitsItsRadii) {
     s[best].points.push_back(p);
   }
   RadiusOptions o;
+  Skeleton plain = s;
+  fit_radii(plain, &cloud, o);
   o.complete = true;
   Skeleton unscaled = s;
   EXPECT_THROW(fit_radii(unscaled, &cloud, o), OptionError);
@@ -187,8 +191,9 @@ TEST(FitRadii, CompletingGrowsATwigAndFitsItsRadii) {
   EXPECT_EQ(s.node_count(), 21 + stats.completion.nodes);
   EXPECT_EQ(validate(s, cloud.size()), "");
   expect_pipe_model(s, 2.0);
-  // The trunk keeps its measured radius.
+  // The trunk keeps its measured radius, below the new fork and above it.
   EXPECT_NEAR(s[s.root].radius, 0.05, 0.01);
+  EXPECT_GT(s[15].radius, 0.9 * plain[15].radius);  // z = 1.5
 }
 
 // A short side branch whose circle fits are as wide as the trunk (on TreeLS's conifers, the needles

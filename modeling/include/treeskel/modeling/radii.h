@@ -64,7 +64,9 @@ struct RadiusOptions {
   double max_share_over_pipe = 4.0;
   /// After fitting, grow branches through the points that the fitted tubes leave more than a margin
   /// outside (`complete_skeleton`), then fit again: a model that reaches the parts of a crowded or
-  /// sparse crown the skeleton passes by. Needs the cloud and `cell_size`.
+  /// sparse crown the skeleton passes by. The grafted twigs carry their own length only in the pipe
+  /// model (no tip allowance, their circle fits unused), so they take almost nothing from the
+  /// branches they hang from. Needs the cloud and `cell_size`.
   bool complete = false;
   CompleteOptions completion;  ///< its automatic (0) scales follow `cell_size`
   double cell_size = 0.0;      ///< the octree cell size the skeleton was extracted with
