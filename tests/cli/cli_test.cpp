@@ -66,12 +66,15 @@ TEST(Cli, FarBridgePointsSetsTheSmallestPartJoinedAcrossALongGap) {
     EXPECT_EQ(r.code, 0) << r.out;
     return nlohmann::json::parse(r.out);
   };
-  const auto plain = skeleton(""), ten = skeleton("--far-bridge-points 10"), three = skeleton("--far-bridge-points 3");
-  EXPECT_EQ(plain["nodes"], three["nodes"]);  // 3 is the default
+  const auto plain = skeleton(""), ten = skeleton("--far-bridge-points 10"), three = skeleton("--far-bridge-points 3"),
+             two = skeleton("--far-bridge-points 2");
+  EXPECT_EQ(plain["nodes"], two["nodes"]);  // 2 is the default
   const auto left = [](const nlohmann::json& j) { return j["left_out"]["small_clusters"].get<int>(); };
   EXPECT_GT(left(ten), 0);
   EXPECT_LT(left(three), left(ten));
+  EXPECT_LT(left(two), left(three));
   EXPECT_GT(three["nodes"].get<int>(), ten["nodes"].get<int>());
+  EXPECT_GT(two["nodes"].get<int>(), three["nodes"].get<int>());
   const Result refused = run("skeletonize " + quoted(input) + " -o " + quoted(dir.path("bad.json")) + " --far-bridge-points 0");
   EXPECT_EQ(refused.code, 2) << refused.out;
   EXPECT_NE(refused.out.find("--far-bridge-points"), std::string::npos) << refused.out;

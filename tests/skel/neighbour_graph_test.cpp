@@ -123,8 +123,10 @@ TEST(NeighbourGraph, BridgeLinksEachPartToItsNearestForeignCell) {
   connected_components(graph, &parts);
   EXPECT_EQ(parts, 3u);  // the line with A and B, and the two pins
 
-  // Out of reach: a bridge distance under 3 joins neither part.
+  // Out of reach: a bridge distance under 3 joins neither part (far bridging off: parts of two
+  // points are far bridged by default).
   g.bridge_distance = 2.9;
+  g.far_bridge_distance = -1.0;
   EXPECT_EQ(build_neighbour_graph(cells, g).bridges, 0u);
 }
 

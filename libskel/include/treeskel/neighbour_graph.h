@@ -36,12 +36,12 @@ struct NeighbourGraphOptions {
   /// cut off by an occlusion); smaller parts are not, so a few stray points do not become branches.
   /// 0 (default): a tenth of the cloud's size. Negative: no far bridging.
   double far_bridge_distance = 0.0;
-  /// The default joins a twig piece of three points (a far link still needs such a part at both
-  /// ends, so a lone stray point stays out): on real scans most of what a larger floor left out were
-  /// such pieces, the last twigs of sparse crowns (AdTree's tree33 reaches its top with 3, 0.88 of its
-  /// height with 10), and every synthetic set scores better or within 0.001 (docs/models.md, "Far
-  /// bridging of smaller parts").
-  std::size_t far_bridge_min_points = 3;
+  /// The default joins a twig piece of two points (a far link still needs such a part at both ends,
+  /// so a lone stray point stays out): on real scans most of what a larger floor left out were such
+  /// pieces, the last twigs of sparse crowns (AdTree's tree33 reaches its top with 2, 0.88 of its
+  /// height with 10; tree13 leaves 218 points out instead of 441 with 3), and the synthetic sets
+  /// score within 0.01 of a floor of 3 (docs/models.md, "Far bridging of smaller parts").
+  std::size_t far_bridge_min_points = 2;
   double far_bridge_fraction = 0.0;
   /// Bridging runs in rounds: each part not joined to the tree (the largest part) yet links to the
   /// nearest other part its probes meet, the parts joined so far counting as one, until a round
