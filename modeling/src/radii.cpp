@@ -383,8 +383,6 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
   const bool complete = options.complete && cloud != nullptr;
   if (complete && !(options.cell_size > 0.0))
     throw OptionError("completing the skeleton needs the octree cell size it was extracted with");
-  if (!(options.stiffness >= 0.0) || !std::isfinite(options.stiffness))
-    throw OptionError("the limbs' stiffness must be 0 or positive");
   fit_radii_once(skeleton, cloud, options, stats);
   if (complete) {
     const NodeId before = skeleton.node_count();

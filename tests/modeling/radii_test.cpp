@@ -153,6 +153,9 @@ TEST(FitRadii, RefusesBadInput) {
   RadiusOptions o;
   o.exponent = 0.5;
   EXPECT_THROW(fit_radii(s, nullptr, o), OptionError);
+  RadiusOptions bent;
+  bent.stiffness = -1.0;
+  EXPECT_THROW(fit_radii(s, nullptr, bent), OptionError);
 }
 
 // With `complete`, a twig whose points the skeleton passed by becomes a branch, and the radii are

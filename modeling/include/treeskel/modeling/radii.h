@@ -116,7 +116,8 @@ std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, cons
 /// cloud, the root goes down its trunk to where its points end (`reach_down`), and last each limb's
 /// path is smoothed (`RadiusOptions::stiffness`, `straighten_limbs`): nodes move, radii stay.
 /// @throws InputError when the skeleton is empty or not a tree, or nothing gives a positive radius.
-/// @throws OptionError for an exponent outside [1, 4], or `complete` with a cloud but no cell size.
+/// @throws OptionError for an exponent outside [1, 4], `complete` with a cloud but no cell size, or a
+/// negative or non-finite `stiffness` (found by `straighten_limbs`, once the radii are fitted).
 void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options = {},
                RadiusStats* stats = nullptr);
 
