@@ -206,8 +206,12 @@ Pairs crossings_in(const TreeMesh& mesh, const Eigen::Vector3d& offset, const st
 /// Sweeps pieces and unites them with a mesh (see add_pieces).
 class Uniter {
  public:
-  Uniter(const SweepOptions& options, double extent, const Eigen::Vector3d& frame, const TreeScale& scale, SweepStats& st)
-      : o_(options), extent_(extent), frame_(frame), scale_(scale), st_(st) {}
+  /// `clean_base`: the mesh the pieces go into holds no crossing in the floats of the frame (the
+  /// sweep's whole-mesh test found none), so neither does any union `unite` returns (each adds no
+  /// crossing), and a union's regions need not be tested on its base.
+  Uniter(const SweepOptions& options, double extent, const Eigen::Vector3d& frame, const TreeScale& scale, SweepStats& st,
+         bool clean_base)
+      : o_(options), extent_(extent), frame_(frame), scale_(scale), st_(st), clean_base_(clean_base) {}
 
   /// Sweeps `first` on its own into `out`, and each piece its sweep leaves apart; a piece that does
   /// not sweep is split until its parts do. (A loop, not a recursion: a crowded crown can leave
@@ -276,7 +280,7 @@ class Uniter {
       std::vector<const TreeMesh*> inputs{&base};
       for (const auto& p : pieces) inputs.push_back(&p.mesh);
       const std::vector<Box> regions = changed_boxes(mesh, inputs, frame_, slack);
-      const std::size_t before = crossings_in(base, frame_, regions).size();
+      const std::size_t before = clean_base_ ? 0 : crossings_in(base, frame_, regions).size();
       Pairs pairs = crossings_in(mesh, frame_, regions);
       for (int round = 0; round < kSliverRounds && pairs.size() > before; ++round) {
         std::vector<std::size_t> faces;
@@ -402,6 +406,7 @@ class Uniter {
   Eigen::Vector3d frame_;
   TreeScale scale_;
   SweepStats& st_;
+  bool clean_base_;
   std::size_t swept_ = 0, unions_ = 0;
   std::vector<TreeMesh> apart_;  // the pieces the unions refused
 };
@@ -508,7 +513,9 @@ std::vector<Skeleton> split_piece(const Skeleton& piece) {
 
 TreeMesh add_pieces(TreeMesh mesh, const std::vector<Skeleton>& pieces, const SweepOptions& options,
                     const Eigen::Vector3d& frame, const TreeScale& scale, SweepStats& st) {
-  Uniter uniter(options, bounding_box(mesh).sizes().maxCoeff(), frame, scale, st);
+  // The sweep's whole-mesh test ran and found no crossing (the pieces' sweeps do not count there).
+  const bool clean = options.repair && st.self_intersections == 0;
+  Uniter uniter(options, bounding_box(mesh).sizes().maxCoeff(), frame, scale, st, clean);
   std::vector<Piece> swept;
   for (const auto& piece : pieces) uniter.sweep(piece, swept);
   TreeMesh united = uniter.unite(mesh, std::move(swept));
