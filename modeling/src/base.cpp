@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 namespace treeskel::modeling {
@@ -14,6 +15,11 @@ constexpr double kBaseQuantile = 0.95;
 /// The trunk's axis is the line through the nodes of the thickest path up to this many root radii
 /// from the root.
 constexpr double kAxisRadii = 6.0;
+/// Of the root's points, only those within this many root radii of the trunk's axis count: the
+/// trunk's own bark, not the ground or the roots around it. (Counted too, ground points a metre to the
+/// side of TreeLS's spruce, whose axis near the root leans, reached 0.4 m down that axis and took the
+/// base 0.4 m below the lowest point of the scan.)
+constexpr double kNearAxisRadii = 2.0;
 /// The root moves by at most this many root radii.
 constexpr double kMostRadii = 4.0;
 /// The trunk's axis must point down within this angle (its cosine) of the way from the skeleton's
@@ -64,13 +70,25 @@ double reach_down(Skeleton& skeleton, const PointCloud& cloud) {
   middle /= static_cast<double>(skeleton.node_count());
   const Eigen::Vector3d fall = g[root].position - middle;
   if (!(fall.norm() > 0.0) || down.dot(fall.normalized()) < kLeastDownCosine) return 0.0;
-  // Where the root's points end along that axis; the root goes onto the axis there, never up.
+  // Where the root's points near the axis end along it; the root goes onto the axis there, never
+  // up, and not below the lowest of those points taken the way the tree falls from its centre to
+  // its root (a leaning axis meets the ground lower beside the trunk than under it).
   std::vector<double> below;
   below.reserve(points.size());
-  for (auto i : points) below.push_back((cloud.positions[i] - centre).dot(down));
+  const Eigen::Vector3d way = fall.normalized();
+  double lowest = -std::numeric_limits<double>::infinity();
+  for (auto i : points) {
+    const Eigen::Vector3d p = cloud.positions[i] - centre;
+    const double d = p.dot(down);
+    if ((p - d * down).norm() > kNearAxisRadii * radius) continue;
+    below.push_back(d);
+    lowest = std::max(lowest, p.dot(way));
+  }
+  if (below.size() < 3) return 0.0;
   const auto k = static_cast<std::size_t>(kBaseQuantile * static_cast<double>(below.size() - 1));
   std::nth_element(below.begin(), below.begin() + static_cast<std::ptrdiff_t>(k), below.end());
-  const double level = std::max(below[k], (g[root].position - centre).dot(down));
+  const double floor = lowest / down.dot(way);  // the level on the axis as low as that point
+  const double level = std::max(std::min(below[k], floor), (g[root].position - centre).dot(down));
   const Eigen::Vector3d base = centre + level * down;
   const Eigen::Vector3d move = base - g[root].position;
   if (!(move.norm() > 0.0) || move.norm() > kMostRadii * radius) return 0.0;

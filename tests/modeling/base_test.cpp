@@ -95,5 +95,24 @@ TEST(Base, ARootFarAboveItsPointsStays) {
   EXPECT_EQ(deep.skeleton[deep.skeleton.root].position, Eigen::Vector3d::Zero());
 }
 
+TEST(Base, GroundAroundALeaningTrunkDoesNotCountForItsBase) {
+  // A trunk leaning 30 degrees whose bark ends 8 cm below the root, on a ground of points 1 m around
+  // it 5 cm below the root. Down the leaning axis, the ground on the side it leans from lies up to
+  // 0.5 m away; the base goes to where the bark ends.
+  const Eigen::Vector3d axis(0.5, 0.0, std::sqrt(0.75));
+  Trunk t = trunk(axis, -0.08, 0.1);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> side(-1.0, 1.0);
+  for (int i = 0; i < 400; ++i) {
+    t.skeleton[t.skeleton.root].points.push_back(static_cast<std::uint32_t>(t.cloud.size()));
+    t.cloud.positions.emplace_back(side(rng), side(rng), -0.05);
+  }
+  const double moved = reach_down(t.skeleton, t.cloud);
+  EXPECT_NEAR(moved, 0.071, 0.008);  // the 95th percentile of the bark's 0.08 below and 0.1 above
+  double lowest = 0.0;
+  for (const auto& p : t.cloud.positions) lowest = std::min(lowest, p.z());
+  EXPECT_GT(t.skeleton[t.skeleton.root].position.z(), lowest);
+}
+
 }  // namespace
 }  // namespace treeskel::modeling
