@@ -204,6 +204,8 @@ int run(Settings& s) {
                 {"from_stored_radii", radius_stats.used_stored},
                 {"exponent", s.radii.exponent},
                 {"stem_share_bound", s.radii.max_share_over_pipe},
+                {"stub_length", s.radii.stub_length},
+                {"stubs", radius_stats.stubs},
                 {"base_lowered", radius_stats.base_lowered},
                 {"stiffness", s.radii.stiffness},
                 {"straightened_limbs", radius_stats.straightened.limbs},

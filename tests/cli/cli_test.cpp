@@ -294,6 +294,8 @@ TEST(Cli, ModelStraightensTheLimbsUnlessTheStiffnessIsZero) {
   const auto j = nlohmann::json::parse(straight.out)["radii"];
   EXPECT_EQ(j["stiffness"].get<double>(), 2.0);
   EXPECT_GT(j["straightened_nodes"].get<int>(), 0);
+  EXPECT_EQ(j["stub_length"].get<double>(), 5.0);  // and the stubs found (FitRadii.TipsShorterThan...)
+  EXPECT_GE(j["stubs"].get<int>(), 0);
   EXPECT_GT(j["largest_shift"].get<double>(), 0.0);
   const Result kept = run("model " + cloud + " -o b.ply --skeleton b.json --stiffness 0 --json", dir.root());
   ASSERT_EQ(kept.code, 0) << kept.out;

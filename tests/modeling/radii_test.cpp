@@ -199,54 +199,75 @@ TEST(FitRadii, CompletingGrowsATwigAndFitsItsRadii) {
   EXPECT_GT(s[15].radius, 0.9 * plain[15].radius);  // z = 1.5
 }
 
-// A short side branch whose circle fits are as wide as the trunk (on TreeLS's conifers, the needles
-// around a whorl's branches; here its points lie on a circle as wide as the trunk). By the fits alone the
-// fork would give the stub a third of the trunk's cross section, and the trunk above it would
-// narrow to 0.8 of what its own points say. Bounded by four times its pipe-model share, the stub
-// gets less and the trunk keeps more of its width; without a cloud nothing is bounded.
-TEST(FitRadii, AStubThatMeasuresItsParentDoesNotStarveIt) {
-  Skeleton s = test::straight(4.0, 0.1, 40);  // nodes every 0.1 m; node 10 at z = 1
-  const NodeId fork = 10;
-  const NodeId stub = test::add_run(s, fork, Eigen::Vector3d(0.2, 0, 1.0), 0.1, 2);
-  std::vector<Eigen::Vector3d> twig_direction;  // sixteen twigs of 0.3 m near the top, 3 nodes each
+// A trunk 4 m tall (nodes every 0.1 m) with short stubs of 0.2 m (two nodes each) leaving node 10
+// in `stubs` directions and sixteen twigs `twig` long (three nodes each) near the top. Twelve points on
+// a circle across each node's branch: the trunk's and the stubs' of radius 0.1 (a stub's fits as
+// wide as the trunk, as around a conifer's whorl the needles make them), the twigs' of 0.01.
+struct StubTree {
+  Skeleton skeleton;
+  PointCloud cloud;
+  std::vector<NodeId> stubs;  // each stub's first node
+};
+
+StubTree stub_tree(const std::vector<Eigen::Vector3d>& stubs, double twig = 0.3) {
+  StubTree t;
+  Skeleton& s = t.skeleton;
+  s = test::straight(4.0, 0.1, 40);
+  for (const Eigen::Vector3d& d : stubs) t.stubs.push_back(test::add_run(s, 10, s[10].position + 0.2 * d, 0.1, 2) - 1);
+  const NodeId first_twig = s.node_count();
+  std::vector<Eigen::Vector3d> twig_direction;
   for (int k = 0; k < 16; ++k) {
     const NodeId from = static_cast<NodeId>(24 + k);
     twig_direction.emplace_back(std::cos(0.8 * k), std::sin(0.8 * k), 0.0);
-    test::add_run(s, from, s[from].position + 0.3 * twig_direction.back(), 0.01, 3);
+    test::add_run(s, from, s[from].position + twig * twig_direction.back(), 0.01, 3);
   }
-  // Twelve points on a circle across each node's branch: the trunk's and the stub's of radius 0.1,
-  // the twigs' of 0.01.
-  PointCloud cloud;
   const auto ring = [&](NodeId v, const Eigen::Vector3d& along, double r) {
     const Eigen::Vector3d u = along.unitOrthogonal(), w = along.cross(u);
     for (int k = 0; k < 12; ++k) {
       const double a = 2.0 * 3.14159265358979323846 * k / 12.0;
-      s[v].points.push_back(static_cast<std::uint32_t>(cloud.size()));
-      cloud.positions.push_back(s[v].position + r * (std::cos(a) * u + std::sin(a) * w));
+      s[v].points.push_back(static_cast<std::uint32_t>(t.cloud.size()));
+      t.cloud.positions.push_back(s[v].position + r * (std::cos(a) * u + std::sin(a) * w));
     }
   };
   for (NodeId v = 0; v <= 40; ++v) ring(v, Eigen::Vector3d::UnitZ(), 0.1);
-  ring(stub - 1, Eigen::Vector3d::UnitX(), 0.1);
-  ring(stub, Eigen::Vector3d::UnitX(), 0.1);
-  for (NodeId v = stub + 1; v < s.node_count(); ++v) ring(v, twig_direction[(v - stub - 1) / 3], 0.01);
+  for (std::size_t k = 0; k < stubs.size(); ++k)
+    for (NodeId v : {t.stubs[k], t.stubs[k] + 1}) ring(v, stubs[k], 0.1);
+  for (NodeId v = first_twig; v < s.node_count(); ++v) ring(v, twig_direction[(v - first_twig) / 3], 0.01);
+  return t;
+}
+
+// A short side branch whose circle fits are as wide as the trunk (stub_tree). By the fits alone the
+// fork would give the stub a third of the trunk's cross section, and the trunk above it would
+// narrow to 0.8 of what its own points say. Bounded by four times its pipe-model share, the stub
+// gets less and the trunk keeps more of its width; without a cloud nothing is bounded.
+TEST(FitRadii, AStubThatMeasuresItsParentDoesNotStarveIt) {
+  StubTree t = stub_tree({Eigen::Vector3d::UnitX()});
+  Skeleton& s = t.skeleton;
+  const PointCloud& cloud = t.cloud;
+  const NodeId fork = 10, stub = t.stubs.front() + 1;
   ASSERT_EQ(validate(s, cloud.size()), "");
   const NodeId above = 11;  // the trunk's first node above the fork
   Skeleton unbounded = s;
   RadiusOptions off;
   off.max_share_over_pipe = 0.0;
+  off.stub_length = 0.0;  // the stub, 2 trunk radii long, is a twig here (see the stub tests below)
   fit_radii(unbounded, &cloud, off);
   RadiusOptions bound;
   ASSERT_EQ(bound.max_share_over_pipe, 4.0);  // the default
+  bound.stub_length = 0.0;
   fit_radii(s, &cloud, bound);
   expect_pipe_model(s, 2.0);
   expect_pipe_model(unbounded, 2.0);
   // The fork measures 0.099 either way. Unbounded, the stub takes 34% of its cross section and
-  // the trunk above it is 0.081; bounded (four times the stub's pipe share of 5.6%), 22% and 0.088.
+  // the trunk above it is 0.081. Bounded, the stub takes exactly four times its pipe share: what it
+  // carries (0.1 m and a tip of 6 median twigs, 1.8 m) over what the fork's children carry (that and
+  // the trunk's 2.9 m, sixteen twigs of 0.3 m and seventeen tips), 18.9%; the trunk above is 0.0895.
   EXPECT_NEAR(s[fork].radius, 0.099, 0.002);
   EXPECT_LT(unbounded[above].radius, 0.082);
   EXPECT_GT(unbounded[stub - 1].radius, 0.055);
-  EXPECT_GT(s[above].radius, 0.086);
-  EXPECT_LT(s[stub - 1].radius, 0.05);
+  const double pipe_share = 1.9 / (1.9 + 2.9 + 16 * 2.1 + 1.8);
+  EXPECT_NEAR(std::pow(s[stub - 1].radius / s[fork].radius, 2.0), 4.0 * pipe_share, 1e-3);
+  EXPECT_GT(s[above].radius, 0.089);
   // Stored radii are taken as they are: the same skeleton without a cloud is not bounded.
   Skeleton stored = s;
   for (NodeId v = 0; v < stored.node_count(); ++v) stored[v].radius = v == stub - 1 || v == stub ? 0.1 : s[v].radius;
@@ -258,6 +279,54 @@ TEST(FitRadii, AStubThatMeasuresItsParentDoesNotStarveIt) {
   EXPECT_THROW(fit_radii(s, &cloud, bad), OptionError);
   bad.max_share_over_pipe = std::numeric_limits<double>::infinity();  // not "off": 0 is
   EXPECT_THROW(fit_radii(s, &cloud, bad), OptionError);
+}
+
+// Two such stubs at one fork: each takes its bound, no more. (Bounded against the sum of what the
+// children's fits say, each stub's own wide fit raised its bound: the two took 21.2% each, 18.1% here.)
+TEST(FitRadii, StubsSharingAForkTakeNoMoreThanTheirBoundTogether) {
+  StubTree t = stub_tree({Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()});
+  Skeleton& s = t.skeleton;
+  RadiusOptions twigs;
+  twigs.stub_length = 0.0;
+  fit_radii(s, &t.cloud, twigs);
+  expect_pipe_model(s, 2.0);
+  const NodeId fork = 10, above = 11;
+  const double pipe_share = 1.9 / (2 * 1.9 + 2.9 + 16 * 2.1 + 1.8);  // as in the test above
+  for (NodeId stub : t.stubs) EXPECT_NEAR(std::pow(s[stub].radius / s[fork].radius, 2.0), 4.0 * pipe_share, 1e-3);
+  EXPECT_NEAR(std::pow(s[above].radius / s[fork].radius, 2.0), 1.0 - 8.0 * pipe_share, 1e-3);
+}
+
+// The same stubs, 2 trunk radii long, under the default 5 (the twigs 0.6 m long, 6 trunk radii;
+// the trunk's last 0.1 m above the top twig is a stub too): they carry their own length only, their
+// fits unused, and the trunk above the fork keeps almost all of its cross section. With stubs off
+// they are twigs, and the trunk above them narrows. The report says how many stubs.
+TEST(FitRadii, TipsShorterThanFiveRadiiOfTheirBranchAreStubs) {
+  StubTree t = stub_tree({Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()}, 0.6);
+  Skeleton s = t.skeleton;
+  RadiusOptions o;
+  ASSERT_EQ(o.stub_length, 5.0);  // the default
+  RadiusStats stats;
+  fit_radii(s, &t.cloud, o, &stats);
+  expect_pipe_model(s, 2.0);
+  EXPECT_EQ(stats.stubs, 3u);
+  const NodeId fork = 10, above = 11;
+  for (NodeId stub : t.stubs) EXPECT_LT(std::pow(s[stub].radius / s[fork].radius, 2.0), 0.005);
+  EXPECT_GT(std::pow(s[above].radius / s[fork].radius, 2.0), 0.99);
+  EXPECT_NEAR(s[above].radius, 0.1, 0.002);  // what the trunk's points say
+  Skeleton twigs = t.skeleton;
+  o.stub_length = 0.0;
+  fit_radii(twigs, &t.cloud, o, &stats);
+  EXPECT_EQ(stats.stubs, 0u);
+  for (NodeId stub : t.stubs) EXPECT_GT(std::pow(twigs[stub].radius / twigs[fork].radius, 2.0), 0.15);  // bounded
+  EXPECT_LT(twigs[above].radius, 0.085);
+  // Stored radii are taken as they are: no stubs without a cloud.
+  Skeleton stored = s;
+  fit_radii(stored, nullptr, RadiusOptions{}, &stats);
+  EXPECT_EQ(stats.stubs, 0u);
+  o.stub_length = -1.0;
+  EXPECT_THROW(fit_radii(s, &t.cloud, o), OptionError);
+  o.stub_length = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(fit_radii(s, &t.cloud, o), OptionError);
 }
 
 }  // namespace

@@ -62,6 +62,14 @@ struct RadiusOptions {
   /// their reference models. 0 leaves the shares unbounded. Only with a cloud: a skeleton's stored
   /// radii are taken as they are. `treeskel model --stem-share-bound`.
   double max_share_over_pipe = 4.0;
+  /// A tip shorter than this many radii of the branch it leaves (as a first fit gives them) is a
+  /// stub: it carries its own length only in the pipe model (no tip allowance) and its circle fits,
+  /// which take in the points of the branch it sticks out of, are not used; the radii are then
+  /// fitted again. The level sets of sparse or unevenly scanned trunks leave such spurs, and each took
+  /// a twig's share of the trunk: on the synthetic trees thinned with height, seven spurs of 4-12 cm
+  /// on a trunk 2.7 cm thick left it 0.67 of its true radius above them. 0: every tip is a twig.
+  /// Only with a cloud. Chosen on the synthetic trees (docs/models.md, "Stubs").
+  double stub_length = 5.0;
   /// After fitting, grow branches through the points that the fitted tubes leave more than a margin
   /// outside (`complete_skeleton`), then fit again: a model that reaches the parts of a crowded or
   /// sparse crown the skeleton passes by. The grafted twigs carry their own length only in the pipe
@@ -87,6 +95,7 @@ struct RadiusStats {
   std::size_t reliable = 0;  ///< of them, fits reliable enough to steer the radii
   bool used_stored = false;  ///< no cloud points: the skeleton's own radii were taken as measurements
   CompleteStats completion;  ///< what `complete` grafted (zeros when it did not run)
+  std::size_t stubs = 0;         ///< tips found to be stubs (see `RadiusOptions::stub_length`)
   double base_lowered = 0.0;     ///< how far `reach_down` moved the root (0 without a cloud)
   StraightenStats straightened;  ///< what the limbs' smoothing moved (zeros when it did not run)
 };
@@ -111,13 +120,16 @@ std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, cons
 ///   scaled per branch by the reliable measurements: measured values win where they are reliable,
 ///   the rule fills in twigs and occluded parts.
 /// Without a cloud (`cloud == nullptr`, e.g. a skeleton read from a file) the skeleton's own radii
-/// are the measurements. With `options.complete` and a cloud, the skeleton gains the grafted
+/// are the measurements. With a cloud, tips shorter than `options.stub_length` radii of the branch
+/// they leave are stubs and the radii are fitted again without their share (see `RadiusOptions`).
+/// With `options.complete` and a cloud, the skeleton gains the grafted
 /// branches (see `RadiusOptions::complete`) and every radius is fitted again with them. Then, with a
 /// cloud, the root goes down its trunk to where its points end (`reach_down`), and last each limb's
 /// path is smoothed (`RadiusOptions::stiffness`, `straighten_limbs`): nodes move, radii stay.
 /// @throws InputError when the skeleton is empty or not a tree, or nothing gives a positive radius.
-/// @throws OptionError for an exponent outside [1, 4], `complete` with a cloud but no cell size, or a
-/// negative or non-finite `stiffness` (found by `straighten_limbs`, once the radii are fitted).
+/// @throws OptionError for an exponent outside [1, 4], `complete` with a cloud but no cell size, a
+/// negative or non-finite `stub_length`, or a negative or non-finite `stiffness` (found by
+/// `straighten_limbs`, once the radii are fitted).
 void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options = {},
                RadiusStats* stats = nullptr);
 
