@@ -465,7 +465,9 @@ PYBIND11_MODULE(_treeskel, m) {
         "one; keyword arguments: exponent, tip_weight, fit_points, complete (grow branches through the "
         "points the fitted tubes pass by, as `treeskel model --complete`), stem_share_bound (at the stem's "
         "forks no branch takes more than that many times its pipe-model share; 4 by default, 0 for none, "
-        "as `treeskel model --stem-share-bound`), stiffness (each limb's path smoothed over that many times "
+        "as `treeskel model --stem-share-bound`), stub_length (tips shorter than that many radii of the branch "
+        "they leave carry their own length only; 5 by default, 0 off, as `treeskel model --stub-length`), "
+        "stiffness (each limb's path smoothed over that many times "
         "its radius; 2 by default, 0 keeps the skeleton's path, as `treeskel model --stiffness`)");
 
   m.def("tree_mesh", [](const std::shared_ptr<PySkeleton>& s, const py::kwargs& kwargs) {

@@ -70,6 +70,20 @@ def test_stem_share_bound_as_the_command(exe, data, tmp_path):
         treeskel.fit_radii(skeleton, stem_share_bound=0.5)
 
 
+def test_stub_length_as_the_command(exe, data, tmp_path):
+    # Stubs reach the radii as `model --stub-length` does; 0 makes every tip a twig.
+    cloud = str(data / "tree_adtree1.xyz")
+    skeleton = treeskel.extract_skeleton(cloud)
+    twigs = treeskel.fit_radii(skeleton, stub_length=0)
+    assert not np.array_equal(twigs.radii, treeskel.fit_radii(skeleton).radii)
+    _, mesh, _ = treeskel.model(cloud, stub_length=0, local=True)
+    mesh.save(str(tmp_path / "py.ply"), local=True)
+    run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", "--stub-length", 0, "-q")
+    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    with pytest.raises(ValueError, match="stub-length"):
+        treeskel.fit_radii(skeleton, stub_length=-1)
+
+
 def test_model_warns_as_the_command_does(data):
     points = np.loadtxt(data / "tree_rtwig.txt")[:, :3]
     # The bundled tree as it is: nothing to warn about.
