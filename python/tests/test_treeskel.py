@@ -56,32 +56,21 @@ def test_model_equals_the_commands(exe, data, tmp_path):
     assert np.array_equal(skeleton.radii, fitted.radii) and np.array_equal(skeleton.positions, fitted.positions)
 
 
-def test_stem_share_bound_as_the_command(exe, data, tmp_path):
-    # The bound on a stem fork's shares reaches the radii as `model --stem-share-bound` does.
+@pytest.mark.parametrize("option, value, bad", [("stem_share_bound", 2, 0.5), ("stub_length", 0, -1)])
+def test_radius_options_as_the_command(exe, data, tmp_path, option, value, bad):
+    # The bound on a stem fork's shares and the stubs' length (0: every tip a twig) reach the radii
+    # as `model --stem-share-bound` and `--stub-length` do.
+    flag = "--" + option.replace("_", "-")
     cloud = str(data / "tree_adtree1.xyz")
     skeleton = treeskel.extract_skeleton(cloud)
-    bounded = treeskel.fit_radii(skeleton, stem_share_bound=2)
-    assert not np.array_equal(bounded.radii, treeskel.fit_radii(skeleton).radii)
-    _, mesh, _ = treeskel.model(cloud, stem_share_bound=2, local=True)
+    changed = treeskel.fit_radii(skeleton, **{option: value})
+    assert not np.array_equal(changed.radii, treeskel.fit_radii(skeleton).radii)
+    _, mesh, _ = treeskel.model(cloud, local=True, **{option: value})
     mesh.save(str(tmp_path / "py.ply"), local=True)
-    run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", "--stem-share-bound", 2, "-q")
+    run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", flag, value, "-q")
     assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
-    with pytest.raises(ValueError, match="stem-share-bound"):
-        treeskel.fit_radii(skeleton, stem_share_bound=0.5)
-
-
-def test_stub_length_as_the_command(exe, data, tmp_path):
-    # Stubs reach the radii as `model --stub-length` does; 0 makes every tip a twig.
-    cloud = str(data / "tree_adtree1.xyz")
-    skeleton = treeskel.extract_skeleton(cloud)
-    twigs = treeskel.fit_radii(skeleton, stub_length=0)
-    assert not np.array_equal(twigs.radii, treeskel.fit_radii(skeleton).radii)
-    _, mesh, _ = treeskel.model(cloud, stub_length=0, local=True)
-    mesh.save(str(tmp_path / "py.ply"), local=True)
-    run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", "--stub-length", 0, "-q")
-    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
-    with pytest.raises(ValueError, match="stub-length"):
-        treeskel.fit_radii(skeleton, stub_length=-1)
+    with pytest.raises(ValueError, match=flag[2:]):
+        treeskel.fit_radii(skeleton, **{option: bad})
 
 
 def test_model_warns_as_the_command_does(data):
