@@ -122,6 +122,8 @@ StraightenStats straighten_limbs(Skeleton& skeleton, double factor) {
   }
   std::vector<Eigen::Vector3d> original(n);
   for (NodeId v = 0; v < n; ++v) original[v] = skeleton[v].position;
+  // What each node's own limb's smoothing moved it, beside following its fork.
+  std::vector<double> own_shift(n, 0.0);
   std::vector<double> along;
   std::vector<Eigen::Vector3d> at, placed;
   for (const auto& limb : limbs) {
@@ -146,14 +148,17 @@ StraightenStats straighten_limbs(Skeleton& skeleton, double factor) {
       smooth_run(skeleton, limb, at, along, a, b, factor, placed);
       a = b;
     }
-    for (std::size_t i = 1; i <= m; ++i) skeleton[limb[i]].position = placed[i];
+    for (std::size_t i = 1; i <= m; ++i) {
+      own_shift[limb[i]] = (placed[i] - at[i]).norm();
+      skeleton[limb[i]].position = placed[i];
+    }
   }
   for (NodeId v = 0; v < n; ++v) {
     const double shift = (skeleton[v].position - original[v]).norm();
     const double radius = skeleton[v].radius;
     if (shift > kMovedRadii * radius) ++stats.moved;
     stats.largest_shift = std::max(stats.largest_shift, shift);
-    if (radius > 0.0) stats.largest_shift_radii = std::max(stats.largest_shift_radii, shift / radius);
+    if (radius > 0.0) stats.largest_shift_radii = std::max(stats.largest_shift_radii, own_shift[v] / radius);
   }
   return stats;
 }

@@ -15,7 +15,9 @@ struct StraightenStats {
   std::size_t limbs = 0;        ///< limbs smoothed (paths that follow the thickest child at every fork)
   std::size_t moved = 0;        ///< nodes moved by more than a hundredth of their radius
   double largest_shift = 0.0;   ///< the largest move of a node, in the skeleton's units
-  double largest_shift_radii = 0.0;  ///< the largest move of a node, in its own radii
+  /// The largest move the smoothing of a node's own limb gave it, in its radii (a side twig that
+  /// follows its fork moves farther, by the fork's move, which says nothing about its own radius).
+  double largest_shift_radii = 0.0;
 };
 
 /// Smooths the path of every limb of `skeleton` (which has its radii): from the root, or from the
