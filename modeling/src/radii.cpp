@@ -318,11 +318,13 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
         if (capped[i]) capped_share += cap[i];
         else free_total += estimate[i];
       }
-      if (capped_share >= 1.0) {  // (K = 1 can cap every child: each then gets its pipe share)
-        estimate = cap;
+      if (!(free_total > 0.0) || capped_share >= 1.0) {
+        // Nothing left for the others (K = 1 caps every child wherever one is over): each child
+        // gets its pipe share of what the estimates sum to.
+        const double sum = std::accumulate(estimate.begin(), estimate.end(), 0.0);
+        for (std::size_t i = 0; i < estimate.size(); ++i) estimate[i] = sum * carries[i] / carried_total;
         return;
       }
-      if (!(free_total > 0.0)) return;
       const double total = free_total / (1.0 - capped_share);  // the fork, once the capped take their bound
       for (std::size_t i = 0; i < estimate.size(); ++i)
         if (!capped[i] && estimate[i] > cap[i] * total) capped[i] = changed = true;

@@ -18,9 +18,7 @@ struct Trunk {
 
 Trunk trunk(const Eigen::Vector3d& axis, double from, double to, int points = 200) {
   Trunk t;
-  SkeletonNode root;
-  root.radius = 0.1;
-  t.skeleton.root = add_node(t.skeleton, root);
+  t.skeleton = test::lone_root(0.1);
   test::add_run(t.skeleton, t.skeleton.root, 2.0 * axis.normalized(), 0.1, 40);
   const Eigen::Vector3d a = axis.normalized();
   const Eigen::Vector3d u = a.unitOrthogonal(), v = a.cross(u);
@@ -73,10 +71,7 @@ TEST(Base, ARootBesideItsTrunkGoesOntoItsAxis) {
 TEST(Base, ARootWhoseTrunkRunsSidewaysStays) {
   // A path that leaves the root sideways (along the ground, 0.6 m) before it rises 2 m: the axis near
   // the root is horizontal, not the way down.
-  Skeleton s;
-  SkeletonNode root;
-  root.radius = 0.1;
-  s.root = add_node(s, root);
+  Skeleton s = test::lone_root(0.1);
   const NodeId corner = test::add_run(s, s.root, Eigen::Vector3d(0.6, 0, 0), 0.1, 12);
   test::add_run(s, corner, Eigen::Vector3d(0.6, 0, 2.0), 0.1, 40);
   PointCloud cloud;

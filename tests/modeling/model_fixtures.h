@@ -1,11 +1,13 @@
 // Small skeletons with radii, for the modeling tests.
 #pragma once
 
+#include "treeskel/point_cloud.h"
 #include "treeskel/skeleton.h"
 
 #include <Eigen/Core>
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace treeskel::test {
@@ -27,12 +29,29 @@ inline NodeId add_run(Skeleton& s, NodeId from, const Eigen::Vector3d& to_positi
   return prev;
 }
 
-/// A vertical chain from the origin to (0, 0, length), constant radius.
-inline Skeleton straight(double length, double radius, int steps = 20) {
+/// A skeleton of its root alone, at the origin with `radius`.
+inline Skeleton lone_root(double radius) {
   Skeleton s;
   SkeletonNode root;
   root.radius = radius;
   s.root = add_node(s, root);
+  return s;
+}
+
+/// Adds `count` points on a circle of radius `r` around node `v`, across the direction `along`, to
+/// `cloud`, and makes them the node's points.
+inline void add_ring(Skeleton& s, PointCloud& cloud, NodeId v, const Eigen::Vector3d& along, double r, int count = 12) {
+  const Eigen::Vector3d u = along.unitOrthogonal(), w = along.normalized().cross(u);
+  for (int k = 0; k < count; ++k) {
+    const double a = 2.0 * 3.14159265358979323846 * k / count;
+    s[v].points.push_back(static_cast<std::uint32_t>(cloud.size()));
+    cloud.positions.push_back(s[v].position + r * (std::cos(a) * u + std::sin(a) * w));
+  }
+}
+
+/// A vertical chain from the origin to (0, 0, length), constant radius.
+inline Skeleton straight(double length, double radius, int steps = 20) {
+  Skeleton s = lone_root(radius);
   add_run(s, s.root, Eigen::Vector3d(0, 0, length), radius, steps);
   return s;
 }

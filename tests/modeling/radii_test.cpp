@@ -221,14 +221,7 @@ StubTree stub_tree(const std::vector<Eigen::Vector3d>& stubs, double twig = 0.3)
     twig_direction.emplace_back(std::cos(0.8 * k), std::sin(0.8 * k), 0.0);
     test::add_run(s, from, s[from].position + twig * twig_direction.back(), 0.01, 3);
   }
-  const auto ring = [&](NodeId v, const Eigen::Vector3d& along, double r) {
-    const Eigen::Vector3d u = along.unitOrthogonal(), w = along.cross(u);
-    for (int k = 0; k < 12; ++k) {
-      const double a = 2.0 * 3.14159265358979323846 * k / 12.0;
-      s[v].points.push_back(static_cast<std::uint32_t>(t.cloud.size()));
-      t.cloud.positions.push_back(s[v].position + r * (std::cos(a) * u + std::sin(a) * w));
-    }
-  };
+  const auto ring = [&](NodeId v, const Eigen::Vector3d& along, double r) { test::add_ring(s, t.cloud, v, along, r); };
   for (NodeId v = 0; v <= 40; ++v) ring(v, Eigen::Vector3d::UnitZ(), 0.1);
   for (std::size_t k = 0; k < stubs.size(); ++k)
     for (NodeId v : {t.stubs[k], t.stubs[k] + 1}) ring(v, stubs[k], 0.1);
@@ -294,6 +287,31 @@ TEST(FitRadii, StubsSharingAForkTakeNoMoreThanTheirBoundTogether) {
   const double pipe_share = 1.9 / (2 * 1.9 + 2.9 + 16 * 2.1 + 1.8);  // as in the test above
   for (NodeId stub : t.stubs) EXPECT_NEAR(std::pow(s[stub].radius / s[fork].radius, 2.0), 4.0 * pipe_share, 1e-3);
   EXPECT_NEAR(std::pow(s[above].radius / s[fork].radius, 2.0), 1.0 - 8.0 * pipe_share, 1e-3);
+}
+
+// At K = 1 every child of a fork may take its pipe share at most, so wherever the fits ask more
+// than that of one child, each gets exactly its pipe share; at a root that forks (its cross section
+// the children's estimates) the root keeps what the fits say. A V from the root: two arms of 1 m
+// and 0.5 m, rings of 0.05 on both.
+TEST(FitRadii, AtABoundOfOneEachChildGetsItsPipeShare) {
+  Skeleton s = test::lone_root(0.05);
+  const NodeId long_end = test::add_run(s, s.root, Eigen::Vector3d(0.6, 0.0, 0.8), 0.05, 10);
+  const NodeId short_end = test::add_run(s, s.root, Eigen::Vector3d(-0.3, 0.0, 0.4), 0.05, 5);
+  PointCloud cloud;
+  for (NodeId v = 1; v < s.node_count(); ++v)
+    test::add_ring(s, cloud, v, v <= long_end ? Eigen::Vector3d(0.6, 0.0, 0.8) : Eigen::Vector3d(-0.6, 0.0, 0.8), 0.05);
+  ASSERT_EQ(validate(s, cloud.size()), "");
+  RadiusOptions o;
+  o.max_share_over_pipe = 1.0;
+  o.stub_length = 0.0;
+  fit_radii(s, &cloud, o);
+  expect_pipe_model(s, 2.0);
+  // Each arm's first node carries what lies beyond it (0.9 and 0.4 m) and a tip of 6 median twig
+  // lengths (the median of 1 and 0.5: 1). The fits ask half each, over the short arm's pipe share.
+  const double long_share = 6.9 / (6.9 + 6.4);
+  EXPECT_NEAR(std::pow(s[1].radius / s[s.root].radius, 2.0), long_share, 1e-4);
+  EXPECT_NEAR(std::pow(s[short_end - 4].radius / s[s.root].radius, 2.0), 1.0 - long_share, 1e-4);
+  EXPECT_NEAR(s[s.root].radius, 0.05 * std::sqrt(2.0), 0.002);  // the two arms' fits, summed
 }
 
 // The same stubs, 2 trunk radii long, under the default 5 (the twigs 0.6 m long, 6 trunk radii;
