@@ -36,6 +36,12 @@ struct Tree {
     whole.wood_volume = 1e-6 * static_cast<double>(s.node_count());
     options.max_thinned_share = 0.5;
   }
+  /// The identity map of node ids (the attempt's skeleton is the tree's own).
+  std::vector<NodeId> same() const {
+    std::vector<NodeId> ids(s.node_count());
+    for (NodeId v = 0; v < ids.size(); ++v) ids[v] = v;
+    return ids;
+  }
   /// An attempt of two faces, one of each of two branches (their first nodes, of the given radii).
   static Attempt two_faces(NodeId a, double ra, NodeId b, double rb) {
     Attempt attempt;
@@ -50,8 +56,7 @@ struct Tree {
 TEST(Repair, ACrossingThinsTheThinnerBranchThenTheOther) {
   Tree t;
   Thinning thinning(t.s, t.tree, t.options, t.whole, t.wood, t.st, t.detached);
-  std::vector<NodeId> same(t.s.node_count());
-  for (NodeId v = 0; v < same.size(); ++v) same[v] = v;
+  const std::vector<NodeId> same = t.same();
   const Attempt crossing = Tree::two_faces(t.limb, 0.1, t.twig, 0.01);
   const double k = t.options.repair_shrink;
   for (int round = 1; round <= 2; ++round) {
@@ -73,8 +78,7 @@ TEST(Repair, ACrossingThinsTheThinnerBranchThenTheOther) {
 TEST(Repair, ATwigThatKeepsFailingIsLeftOutToBeSweptApart) {
   Tree t;
   Thinning thinning(t.s, t.tree, t.options, t.whole, t.wood, t.st, t.detached);
-  std::vector<NodeId> same(t.s.node_count());
-  for (NodeId v = 0; v < same.size(); ++v) same[v] = v;
+  const std::vector<NodeId> same = t.same();
   for (int round = 1; round <= t.options.max_shrinks; ++round) {
     thinning.shrink_failed({t.twig}, same);
     EXPECT_NEAR(thinning.scale()[t.twig], std::pow(t.options.repair_shrink, round), 1e-12) << round;
@@ -93,8 +97,7 @@ TEST(Repair, ABranchCarryingMuchOfTheWoodIsSweptApartNotThinned) {
   Tree t;
   t.options.max_thinned_share = 0.2;  // the limb with its twig carries 10 of 31 frustums
   Thinning thinning(t.s, t.tree, t.options, t.whole, t.wood, t.st, t.detached);
-  std::vector<NodeId> same(t.s.node_count());
-  for (NodeId v = 0; v < same.size(); ++v) same[v] = v;
+  const std::vector<NodeId> same = t.same();
   ASSERT_TRUE(thinning.repair({{0, 1}}, false, Tree::two_faces(0, 0.1, t.limb, 0.05), same));
   EXPECT_EQ(t.st.repaired_dropped, 1u);
   EXPECT_EQ(t.st.repaired_shrunk, 0u);
@@ -103,12 +106,27 @@ TEST(Repair, ABranchCarryingMuchOfTheWoodIsSweptApartNotThinned) {
   EXPECT_EQ(t.detached.size(), 10u);  // the limb's 5 nodes and the twig's 5
 }
 
+// The base carries the whole tree: where a part of it (the root's join, or the base chain) crosses
+// another part, the other part is thinned, even when the base's part is the thinner one (a join at
+// the root whose thickest arm is a twig of the roots; thinned, the whole tree went with it).
+TEST(Repair, WhereTheBaseCrossesAnotherPartTheOtherYields) {
+  Tree t;
+  Thinning thinning(t.s, t.tree, t.options, t.whole, t.wood, t.st, t.detached);
+  const std::vector<NodeId> same = t.same();
+  const NodeId base = t.tree.chains.front().nodes[1];
+  const double k = t.options.repair_shrink;
+  ASSERT_TRUE(thinning.repair({{0, 1}}, false, Tree::two_faces(t.s.root, 0.01, t.limb, 0.05), same));
+  EXPECT_NEAR(thinning.scale()[t.limb], k, 1e-12);
+  ASSERT_TRUE(thinning.repair({{0, 1}}, false, Tree::two_faces(base, 0.01, t.limb, 0.05), same));
+  EXPECT_NEAR(thinning.scale()[t.limb], k * k, 1e-12);
+  for (NodeId v : {t.s.root, base, t.fork}) EXPECT_EQ(thinning.scale()[v], 1.0) << v;
+}
+
 // The base chain is never left out: thinned to its floor, a failure there is an error.
 TEST(Repair, TheBaseIsThinnedToItsFloorButNeverLeftOut) {
   Tree t;
   Thinning thinning(t.s, t.tree, t.options, t.whole, t.wood, t.st, t.detached);
-  std::vector<NodeId> same(t.s.node_count());
-  for (NodeId v = 0; v < same.size(); ++v) same[v] = v;
+  const std::vector<NodeId> same = t.same();
   const NodeId base = t.tree.chains.front().nodes[1];
   for (int round = 0; round < 2 * t.options.max_shrinks + 2; ++round) {
     try {
