@@ -194,8 +194,10 @@ std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, cons
 
 namespace {
 
+/// One fit of every radius. `fits`: the circle fits of this skeleton's nodes in `cloud`, measured
+/// already (else they are measured here).
 void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options, RadiusStats* stats,
-                    const std::vector<bool>& light = {}) {
+                    const std::vector<bool>& light = {}, const std::vector<RadiusMeasurement>* fits = nullptr) {
   if (!(options.exponent >= 1.0 && options.exponent <= 4.0))
     throw OptionError("the Leonardo exponent must be between 1 and 4");
   if (options.start_share <= 0.0 || options.start_share > 1.0) throw OptionError("the start share must be in (0, 1]");
@@ -211,7 +213,7 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
   std::vector<RadiusMeasurement> measured;
   RadiusStats local;
   if (cloud != nullptr) {
-    measured = measure_node_radii(skeleton, *cloud, options);
+    measured = fits ? *fits : measure_node_radii(skeleton, *cloud, options);
   } else {
     measured.resize(n);
     for (NodeId v = 0; v < n; ++v)
@@ -416,7 +418,11 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
     throw OptionError("completing the skeleton needs the octree cell size it was extracted with");
   if (!(options.stub_length >= 0.0 && std::isfinite(options.stub_length)))
     throw OptionError("the stub length must be a finite number of radii, at least 0");
-  fit_radii_once(skeleton, cloud, options, stats);
+  // The circle fits, measured once for the fit and the stubs' fit again (the nodes and their points
+  // stay; grafts change them, so the fit after them measures again).
+  const std::vector<RadiusMeasurement> fits =
+      cloud != nullptr ? measure_node_radii(skeleton, *cloud, options) : std::vector<RadiusMeasurement>{};
+  fit_radii_once(skeleton, cloud, options, stats, {}, &fits);
   // Stubs: tips shorter than `stub_length` radii of the branch they leave carry their own length
   // only, their fits unused, and the radii are fitted again.
   std::vector<bool> light;
@@ -430,7 +436,7 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
       for (std::size_t i = 1; i < c.nodes.size(); ++i) light[c.nodes[i]] = true;
       ++stubs;
     }
-    if (stubs > 0) fit_radii_once(skeleton, cloud, options, stats, light);
+    if (stubs > 0) fit_radii_once(skeleton, cloud, options, stats, light, &fits);
   }
   if (complete) {
     const NodeId before = skeleton.node_count();
