@@ -151,6 +151,19 @@ class Builder {
     for (const auto& [a, b] : fused_)
       if (is_junction_[a] && is_junction_[b] && uf.unite(a, b)) ++attempt.merged_forks;
     absorbed_.assign(t_.chains.size(), false);
+    // A chain of no length (its nodes at one place: a fork grafted onto another, or a twig that
+    // never left its fork) has no ring to place: its forks are one join, and a twig is the join's.
+    for (std::size_t c = 0; c < t_.chains.size(); ++c) {
+      if (lines_[c].p.size() >= 2) continue;
+      const NodeId a = t_.chains[c].nodes.front(), b = t_.chains[c].nodes.back();
+      if (!is_junction_[b]) {
+        absorbed_[c] = true;
+        ++attempt.absorbed;
+        continue;
+      }
+      is_junction_[a] = true;  // the root, when it is where its only branch forks
+      if (uf.unite(a, b)) ++attempt.merged_forks;
+    }
     thinned_.assign(t_.chains.size(), 0);
     straightened_.assign(t_.chains.size(), false);
     ring_d_.assign(t_.chains.size(), {0.0, 0.0});

@@ -126,6 +126,32 @@ TEST(SweepMesh, ATreeWhoseRootIsAForkStandsOnItsBase) {
   EXPECT_LT(lowest_z(low), 0.0);
 }
 
+// A fork grafted onto another at the same place makes a chain of no length between them, and a twig
+// that never left its fork one more: neither has a ring, and the sweep stopped on them ("a branch of
+// no length has no ring", seen on a completed AdTree tree33). The two forks are one join, the twig
+// is the join's, and the mesh is the Y's with its third arm.
+TEST(SweepMesh, ChainsOfNoLengthAreTheirJoins) {
+  Skeleton s = test::y_shape(0.05, 0.6, 20);
+  const NodeId fork = static_cast<NodeId>(20);
+  ASSERT_EQ(boost::out_degree(fork, s.graph), 3u);
+  SkeletonNode same = s[fork];
+  same.points.clear();
+  const NodeId twin = add_node(s, same);  // a second fork at the first one's place...
+  boost::add_edge(fork, twin, s.graph);
+  test::add_run(s, twin, Eigen::Vector3d(0, 0.8, 1.6), 0.02, 10);  // ... with an arm of its own
+  const NodeId twig = add_node(s, same);
+  boost::add_edge(twin, twig, s.graph);  // and a twig of no length
+  ASSERT_TRUE(is_tree(s.graph));
+  SweepStats stats;
+  const TreeMesh mesh = sweep_mesh(s, {}, &stats);
+  expect_valid(mesh);
+  EXPECT_EQ(stats.junctions, 1u);
+  EXPECT_GT(check_mesh(mesh).volume, union_volume(0.05, 0.6));
+  double reach = 0.0;  // the third arm is there, to its tip
+  for (auto v : mesh.vertices()) reach = std::max(reach, static_cast<double>(mesh.point(v)[1]));
+  EXPECT_GT(reach, 0.8);
+}
+
 TEST(SweepMesh, PaperTreesGiveValidMeshes) {
   for (int index = 1; index <= 6; ++index) {
     Skeleton s = eval::make_paper_tree(index, 1).skeleton;
