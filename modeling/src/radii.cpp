@@ -205,6 +205,8 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
   if (!(options.tip_weight > 0.0)) throw OptionError("the tip weight must be positive");
   if (const double k = options.max_share_over_pipe; !(k == 0.0 || (k >= 1.0 && std::isfinite(k))))
     throw OptionError("the bound on a child's share over the pipe model's must be 0 (none) or a finite number of at least 1");
+  if (!(options.min_share_of_pipe >= 0.0 && options.min_share_of_pipe <= 1.0))
+    throw OptionError("the least share of the pipe model's a child gets must be between 0 and 1");
   const ChainTree t = build_chains(skeleton);
   auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
@@ -256,6 +258,15 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
     double sum = 0.0;
     for (NodeId c : t.children[v]) sum += carried[c] + (g[c].position - g[v].position).norm();
     carried[v] = sum;
+  }
+  // A light chain (a stub, a graft) keeps along its length what its first node carries: its own
+  // length counts once, at the fork it leaves, and the chain is a cylinder. Tapered to what is
+  // left above each node, its tip carried nothing and came out under a micrometre across in the
+  // cylinder table.
+  for (const auto& c : t.chains) {
+    if (!is_light(c.nodes.back())) continue;
+    for (std::size_t i = 2; i < c.nodes.size(); ++i)
+      if (is_light(c.nodes[i])) carried[c.nodes[i]] = std::max(carried[c.nodes[i]], carried[c.nodes[i - 1]]);
   }
 
   // Global scale: measured cross section per carried length. Nodes count by the length they
@@ -336,6 +347,32 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
       if (capped[i]) estimate[i] = cap[i] * total;
   };
 
+  // No child of a fork gets less than `min_share_of_pipe` of its pipe share: those under it get
+  // exactly that, the others share the rest as their estimates say (found in rounds, as above).
+  auto floor_fork = [&](std::vector<double>& estimate, const std::vector<double>& carries) {
+    const double carried_total = std::accumulate(carries.begin(), carries.end(), 0.0);
+    const double total = std::accumulate(estimate.begin(), estimate.end(), 0.0);
+    if (!(options.min_share_of_pipe > 0.0 && carried_total > 0.0 && total > 0.0)) return;
+    std::vector<double> least(estimate.size());
+    for (std::size_t i = 0; i < estimate.size(); ++i) least[i] = options.min_share_of_pipe * carries[i] / carried_total;
+    std::vector<bool> raised(estimate.size(), false);
+    double free_total = 0.0, raised_share = 0.0;
+    for (bool changed = true; changed;) {
+      changed = false;
+      free_total = 0.0;
+      raised_share = 0.0;
+      for (std::size_t i = 0; i < estimate.size(); ++i) {
+        if (raised[i]) raised_share += least[i];
+        else free_total += estimate[i];
+      }
+      if (!(free_total > 0.0)) break;
+      for (std::size_t i = 0; i < estimate.size(); ++i)
+        if (!raised[i] && (1.0 - raised_share) * estimate[i] / free_total < least[i]) raised[i] = changed = true;
+    }
+    for (std::size_t i = 0; i < estimate.size(); ++i)
+      estimate[i] = total * (raised[i] ? least[i] : (1.0 - raised_share) * estimate[i] / free_total);
+  };
+
   std::vector<double> area(n, 0.0);  // r^e
   // Start values of the chains leaving a fork: the fork's cross section shared in proportion to
   // what each chain's start is estimated at (measured where it can be, else the pipe model).
@@ -348,6 +385,7 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
       estimate.push_back(confidence * value + (1.0 - confidence) * global_scale * carries.back());
     }
     if (bounded && on_stem) bound_stem_fork(estimate, carries, chain_ids);
+    floor_fork(estimate, carries);
     const double total = std::accumulate(estimate.begin(), estimate.end(), 0.0);
     if (!fork_known) area[fork] = total;
     for (std::size_t i = 0; i < chain_ids.size(); ++i)

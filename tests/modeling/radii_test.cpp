@@ -314,6 +314,48 @@ TEST(FitRadii, AtABoundOfOneEachChildGetsItsPipeShare) {
   EXPECT_NEAR(s[s.root].radius, 0.05 * std::sqrt(2.0), 0.002);  // the two arms' fits, summed
 }
 
+// A trunk 1 m tall with rings of 0.05 forks into two arms of 1 m: the points measure one, whose
+// rings (0.15) are three times the trunk's, and not the other. The unmeasured arm's estimate comes
+// from the global scale the trunk sets, nine times under its sibling's fit: alone it got a twentieth
+// of the fork; with the floor it gets a quarter of its pipe share (half the fork), an eighth.
+TEST(FitRadii, AChildTheFitsDoNotMeasureGetsAtLeastAQuarterOfItsPipeShare) {
+  Skeleton s = test::lone_root(0.05);
+  const NodeId fork = test::add_run(s, s.root, Eigen::Vector3d(0, 0, 1), 0.05, 10);
+  const NodeId measured_end = test::add_run(s, fork, Eigen::Vector3d(0.6, 0, 1.8), 0.05, 10);
+  const NodeId bare_end = test::add_run(s, fork, Eigen::Vector3d(-0.6, 0, 1.8), 0.05, 10);
+  PointCloud cloud;
+  for (NodeId v = 0; v < fork; ++v) test::add_ring(s, cloud, v, Eigen::Vector3d::UnitZ(), 0.05);
+  for (NodeId v = fork + 1; v <= measured_end; ++v) test::add_ring(s, cloud, v, Eigen::Vector3d(0.6, 0, 0.8), 0.15);
+  ASSERT_EQ(validate(s, cloud.size()), "");
+  const NodeId measured_first = fork + 1, bare_first = measured_end + 1;
+  ASSERT_EQ(bare_end, bare_first + 9);
+  const auto share = [&](const Skeleton& fitted, NodeId child) { return std::pow(fitted[child].radius / fitted[fork].radius, 2.0); };
+
+  RadiusOptions o;
+  ASSERT_EQ(o.min_share_of_pipe, 0.25);  // the default
+  Skeleton floored = s;
+  fit_radii(floored, &cloud, o);
+  expect_pipe_model(floored, 2.0);
+  EXPECT_NEAR(share(floored, bare_first), 0.125, 1e-6);
+  EXPECT_NEAR(share(floored, measured_first), 0.875, 1e-6);
+  // The bare arm is no thinner at its tip than 0.05 times its start's cross section (the taper's
+  // own floor): its radius stays within a factor of five of where it starts.
+  EXPECT_GT(floored[bare_end].radius, 0.2 * floored[bare_first].radius);
+
+  o.min_share_of_pipe = 0.0;
+  Skeleton unfloored = s;
+  fit_radii(unfloored, &cloud, o);
+  EXPECT_LT(share(unfloored, bare_first), 0.07);
+  o.min_share_of_pipe = 1.0;  // the pipe model's shares wherever the fits give less
+  Skeleton pipe = s;
+  fit_radii(pipe, &cloud, o);
+  EXPECT_NEAR(share(pipe, bare_first), 0.5, 1e-6);
+  for (double bad : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    o.min_share_of_pipe = bad;
+    EXPECT_THROW(fit_radii(pipe, &cloud, o), OptionError);
+  }
+}
+
 // The same stubs, 2 trunk radii long, under the default 5 (the twigs 0.6 m long, 6 trunk radii;
 // the trunk's last 0.1 m above the top twig is a stub too): they carry their own length only, their
 // fits unused, and the trunk above the fork keeps almost all of its cross section. With stubs off
@@ -328,7 +370,12 @@ TEST(FitRadii, TipsShorterThanFiveRadiiOfTheirBranchAreStubs) {
   expect_pipe_model(s, 2.0);
   EXPECT_EQ(stats.stubs, 3u);
   const NodeId fork = 10, above = 11;
-  for (NodeId stub : t.stubs) EXPECT_LT(std::pow(s[stub].radius / s[fork].radius, 2.0), 0.005);
+  for (NodeId stub : t.stubs) {
+    EXPECT_LT(std::pow(s[stub].radius / s[fork].radius, 2.0), 0.005);
+    // A stub is a cylinder: its tip as thick as its start (tapered to what lies above each node,
+    // its tip came out at a ten-millionth of a metre).
+    EXPECT_NEAR(s[stub + 1].radius, s[stub].radius, 1e-12);
+  }
   EXPECT_GT(std::pow(s[above].radius / s[fork].radius, 2.0), 0.99);
   EXPECT_NEAR(s[above].radius, 0.1, 0.002);  // what the trunk's points say
   Skeleton twigs = t.skeleton;

@@ -62,6 +62,14 @@ struct RadiusOptions {
   /// their reference models. 0 leaves the shares unbounded. Only with a cloud: a skeleton's stored
   /// radii are taken as they are. `treeskel model --stem-share-bound`.
   double max_share_over_pipe = 4.0;
+  /// At every fork, each child gets at least this share of what the pipe model gives it (its
+  /// carried length over what all the children carry), whatever the circle fits of its siblings
+  /// say. A child the points do not measure is estimated by the tree's global scale, which the
+  /// trunk sets; fits of a twig's few scattered points come out tens of times wider than that, and
+  /// at each fork a measured sibling left an unmeasured one a hundredth of the cross section: four
+  /// orders down AdTree's tree1 had twigs of 0.04 mm beside branches of 4 mm. 0: no floor; 1: the
+  /// pipe model's shares wherever they are larger than the fits'.
+  double min_share_of_pipe = 0.25;
   /// A tip shorter than this many radii of the branch it leaves (as a first fit gives them) is a
   /// stub: it carries its own length only in the pipe model (no tip allowance) and its circle fits,
   /// which take in the points of the branch it sticks out of, are not used; the radii are then
