@@ -456,8 +456,7 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
     throw OptionError("completing the skeleton needs the octree cell size it was extracted with");
   if (!(options.stub_length >= 0.0 && std::isfinite(options.stub_length)))
     throw OptionError("the stub length must be a finite number of radii, at least 0");
-  // The circle fits, measured once for the fit and the stubs' fit again (the nodes and their points
-  // stay; grafts change them, so the fit after them measures again).
+  // The circle fits, measured once for the first fit, the stubs' fit and the fit after grafting.
   const std::vector<RadiusMeasurement> fits =
       cloud != nullptr ? measure_node_radii(skeleton, *cloud, options) : std::vector<RadiusMeasurement>{};
   fit_radii_once(skeleton, cloud, options, stats, {}, &fits);
@@ -481,7 +480,17 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
     const CompleteStats grafted = complete_skeleton(skeleton, *cloud, options.cell_size, options.completion);
     light.resize(skeleton.node_count(), false);
     for (NodeId v = before; v < skeleton.node_count(); ++v) light[v] = true;
-    if (grafted.nodes > 0) fit_radii_once(skeleton, cloud, options, stats, light);
+    if (grafted.nodes > 0) {
+      // The nodes that were there keep the fits of all the points they held: the grafts' points
+      // were part of what a branch's fit measured before, and fitted again without them the branches
+      // came out thinner (the synthetic trees' volumes fell; docs/models.md). A node a graft now
+      // leaves is a fork and, like any fork, is not measured; the grafts' own fits are unused.
+      std::vector<RadiusMeasurement> kept = fits;
+      kept.resize(skeleton.node_count());
+      for (NodeId v = 0; v < before; ++v)
+        if (boost::degree(v, skeleton.graph) > 2) kept[v] = {};
+      fit_radii_once(skeleton, cloud, options, stats, light, &kept);
+    }
     if (stats) stats->completion = grafted;
   }
   if (stats) stats->stubs = stubs;
