@@ -195,9 +195,9 @@ std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, cons
 namespace {
 
 /// One fit of every radius. `fits`: the circle fits of this skeleton's nodes in `cloud`, measured
-/// already (else they are measured here).
+/// already (else they are measured here). `carried_out`: what each node carries in the pipe model.
 void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options, RadiusStats* stats,
-                    const std::vector<bool>& light = {}, const std::vector<RadiusMeasurement>* fits = nullptr) {
+                    const std::vector<RadiusMeasurement>* fits = nullptr, std::vector<double>* carried_out = nullptr) {
   if (!(options.exponent >= 1.0 && options.exponent <= 4.0))
     throw OptionError("the Leonardo exponent must be between 1 and 4");
   if (options.start_share <= 0.0 || options.start_share > 1.0) throw OptionError("the start share must be in (0, 1]");
@@ -222,9 +222,6 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
       if (g[v].radius > 0.0 && std::isfinite(g[v].radius)) measured[v] = {g[v].radius, 1.0};
     local.used_stored = true;
   }
-  const auto is_light = [&](NodeId v) { return v < light.size() && light[v]; };
-  for (NodeId v = 0; v < n; ++v)
-    if (is_light(v)) measured[v] = {};
   for (const auto& m : measured) {
     local.measured += m.radius > 0.0;
     local.reliable += m.weight > 0.0;
@@ -241,7 +238,7 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
   // classic pipe model (one unit pipe per tip); the length term lets twigs taper.
   std::vector<double> leaf_lengths;
   for (const auto& c : t.chains)
-    if (t.children[c.nodes.back()].empty() && !is_light(c.nodes.back())) leaf_lengths.push_back(chain_length(skeleton, c));
+    if (t.children[c.nodes.back()].empty()) leaf_lengths.push_back(chain_length(skeleton, c));
   double tip = 0.0;
   if (!leaf_lengths.empty()) {
     std::nth_element(leaf_lengths.begin(), leaf_lengths.begin() + leaf_lengths.size() / 2, leaf_lengths.end());
@@ -249,8 +246,6 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
   }
   if (!(tip > 0.0)) tip = 1e-9;
   std::vector<double> carried(n, tip);
-  for (NodeId v = 0; v < n; ++v)
-    if (is_light(v)) carried[v] = 1e-9 * tip;
   const auto order = bfs_order(g, skeleton.root);
   for (auto it = order.rbegin(); it != order.rend(); ++it) {
     const NodeId v = *it;
@@ -259,16 +254,6 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
     for (NodeId c : t.children[v]) sum += carried[c] + (g[c].position - g[v].position).norm();
     carried[v] = sum;
   }
-  // A light chain (a stub, a graft) keeps along its length what its first node carries: its own
-  // length counts once, at the fork it leaves, and the chain is a cylinder. Tapered to what is
-  // left above each node, its tip carried nothing and came out under a micrometre across in the
-  // cylinder table.
-  for (const auto& c : t.chains) {
-    if (!is_light(c.nodes.back())) continue;
-    for (std::size_t i = 2; i < c.nodes.size(); ++i)
-      if (is_light(c.nodes[i])) carried[c.nodes[i]] = std::max(carried[c.nodes[i]], carried[c.nodes[i - 1]]);
-  }
-
   // Global scale: measured cross section per carried length. Nodes count by the length they
   // carry, so that the many twigs (whose carried length is mostly the tip allowance, and whose
   // fits noise inflates) do not outvote the trunk and the limbs.
@@ -446,6 +431,81 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
   }
   for (NodeId v = 0; v < n; ++v) g[v].radius = std::pow(area[v], 1.0 / e);
   if (stats) *stats = local;
+  if (carried_out) *carried_out = std::move(carried);
+}
+
+/// Fits the radii with the `light` nodes left out, then hangs them back. Light nodes (stubs, grafts)
+/// form whole subtrees, each carrying its own length only. Left in, each cut the chain it leaves in
+/// two, and each part's taper started again from its own fits: along a sparse trunk a low fit after
+/// every stub stayed low above it (radii never grow toward the tips), and the synthetic trees thinned
+/// with height lost a quarter of their volume. Hung back, a light subtree takes the share of the
+/// cross section where it hangs that its length has of what that node carries (all of it between the
+/// light subtrees of a node that carries nothing else), and every node below gains it, so Leonardo's
+/// rule holds at every fork; its chains are cylinders, and its forks share by length.
+void fit_with_light_hung(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions& options, RadiusStats* stats,
+                         const std::vector<bool>& light, const std::vector<RadiusMeasurement>& fits) {
+  const std::size_t n = skeleton.node_count();
+  const ChainTree t = build_chains(skeleton);
+  auto& g = skeleton.graph;
+  Skeleton reduced = skeleton;
+  std::vector<bool> keep(n);
+  for (NodeId v = 0; v < n; ++v) keep[v] = !light[v];
+  const std::vector<std::int64_t> id = compact_nodes(reduced, keep);
+  std::vector<RadiusMeasurement> reduced_fits(reduced.node_count());
+  for (NodeId v = 0; v < n; ++v)
+    if (id[v] >= 0 && v < fits.size()) reduced_fits[static_cast<std::size_t>(id[v])] = fits[v];
+  std::vector<double> carried;
+  fit_radii_once(reduced, cloud, options, stats, &reduced_fits, &carried);
+
+  const double e = options.exponent;
+  const auto order = bfs_order(g, skeleton.root);
+  std::vector<double> length(n, 0.0);  // a light node's subtree, the edge it hangs by included
+  for (auto it = order.rbegin(); it != order.rend(); ++it) {
+    const NodeId v = *it;
+    if (!light[v]) continue;
+    length[v] = (g[v].position - g[t.parent[v]].position).norm();
+    for (NodeId c : t.children[v]) length[v] += length[c];
+  }
+  std::vector<double> area(n, 0.0), gained(n, 0.0);  // gained: the light cross sections hung above
+  for (auto it = order.rbegin(); it != order.rend(); ++it) {
+    const NodeId v = *it;
+    if (light[v]) continue;
+    const double own = std::pow(reduced[static_cast<NodeId>(id[v])].radius, e);
+    double hung_length = 0.0, heavy_area = 0.0;
+    std::size_t heavy = 0;
+    for (NodeId c : t.children[v]) {
+      if (light[c]) {
+        hung_length += length[c];
+      } else {
+        ++heavy;
+        heavy_area += area[c];
+        gained[v] += gained[c];
+      }
+    }
+    // What the light children take, each in proportion to its length: of a node with other
+    // children, per what the node carries; of one with none, all of its cross section.
+    const double per_length = heavy == 0 ? (hung_length > 0.0 ? own / hung_length : 0.0)
+                                         : own / std::max(carried[static_cast<std::size_t>(id[v])], 1e-300);
+    for (NodeId c : t.children[v])
+      if (light[c]) area[c] = per_length * length[c];
+    if (heavy == 0) {
+      area[v] = own;
+    } else {
+      const double hung = per_length * hung_length;
+      gained[v] += hung;
+      // A fork is what its children take (Leonardo's rule exactly), which is never more than its own
+      // fit plus what hangs above it; a chain node is its own fit plus what hangs above it.
+      area[v] = heavy >= 2 || hung > 0.0 ? heavy_area + hung : own + gained[v];
+    }
+  }
+  for (NodeId v : order) {  // down each light subtree: chains keep their area, forks share by length
+    if (!light[v]) continue;
+    const auto& kids = t.children[v];
+    double total = 0.0;
+    for (NodeId c : kids) total += length[c];
+    for (NodeId c : kids) area[c] = kids.size() == 1 ? area[v] : area[v] * length[c] / total;
+  }
+  for (NodeId v = 0; v < n; ++v) g[v].radius = std::pow(area[v], 1.0 / e);
 }
 
 }  // namespace
@@ -459,7 +519,7 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
   // The circle fits, measured once for the first fit, the stubs' fit and the fit after grafting.
   const std::vector<RadiusMeasurement> fits =
       cloud != nullptr ? measure_node_radii(skeleton, *cloud, options) : std::vector<RadiusMeasurement>{};
-  fit_radii_once(skeleton, cloud, options, stats, {}, &fits);
+  fit_radii_once(skeleton, cloud, options, stats, &fits);
   // Stubs: tips shorter than `stub_length` radii of the branch they leave carry their own length
   // only, their fits unused, and the radii are fitted again.
   std::vector<bool> light;
@@ -473,7 +533,7 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
       for (std::size_t i = 1; i < c.nodes.size(); ++i) light[c.nodes[i]] = true;
       ++stubs;
     }
-    if (stubs > 0) fit_radii_once(skeleton, cloud, options, stats, light, &fits);
+    if (stubs > 0) fit_with_light_hung(skeleton, cloud, options, stats, light, fits);
   }
   if (complete) {
     const NodeId before = skeleton.node_count();
@@ -489,7 +549,7 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
       kept.resize(skeleton.node_count());
       for (NodeId v = 0; v < before; ++v)
         if (boost::degree(v, skeleton.graph) > 2) kept[v] = {};
-      fit_radii_once(skeleton, cloud, options, stats, light, &kept);
+      fit_with_light_hung(skeleton, cloud, options, stats, light, kept);
     }
     if (stats) stats->completion = grafted;
   }

@@ -314,6 +314,31 @@ TEST(FitRadii, AtABoundOfOneEachChildGetsItsPipeShare) {
   EXPECT_NEAR(s[s.root].radius, 0.05 * std::sqrt(2.0), 0.002);  // the two arms' fits, summed
 }
 
+// Stubs do not cut the trunk's taper in two. The trunk of stub_tree measures 0.1 but for three nodes
+// just above the stubs' fork, whose rings are half as wide. Fitted as a branch of its own from the
+// fork, with its start and taper from its own fits, the trunk above came out 4-6% wider than the
+// trunk of the same tree without the stubs; fitted whole, with the stubs hung back after, it is that
+// trunk to 1%.
+TEST(FitRadii, StubsDoNotRestartTheTaperOfTheBranchTheyLeave) {
+  const auto narrowed = [](StubTree t) {
+    for (NodeId v : {11, 12, 13})
+      for (auto p : t.skeleton[v].points)
+        t.cloud.positions[p] = t.skeleton[v].position + 0.5 * (t.cloud.positions[p] - t.skeleton[v].position);
+    return t;
+  };
+  StubTree with = narrowed(stub_tree({Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()}, 0.6));
+  StubTree without = narrowed(stub_tree({}, 0.6));
+  RadiusStats stats;
+  fit_radii(with.skeleton, &with.cloud, {}, &stats);
+  ASSERT_EQ(stats.stubs, 3u);
+  fit_radii(without.skeleton, &without.cloud, {});
+  expect_pipe_model(with.skeleton, 2.0);
+  for (NodeId v = 11; v <= 23; ++v) {
+    SCOPED_TRACE(v);
+    EXPECT_NEAR(with.skeleton[v].radius / without.skeleton[v].radius, 1.0, 0.01);
+  }
+}
+
 // A trunk 1 m tall with rings of 0.05 forks into two arms of 1 m: the points measure one, whose
 // rings (0.15) are three times the trunk's, and not the other. The unmeasured arm's estimate comes
 // from the global scale the trunk sets, nine times under its sibling's fit: alone it got a twentieth
