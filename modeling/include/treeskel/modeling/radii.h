@@ -71,9 +71,9 @@ struct RadiusOptions {
   /// pipe model's shares wherever they are larger than the fits'.
   double min_share_of_pipe = 0.25;
   /// A tip shorter than this many radii of the branch it leaves (as a first fit gives them) is a
-  /// stub: it carries its own length only in the pipe model (no tip allowance) and its circle fits,
-  /// which take in the points of the branch it sticks out of, are not used; the radii are then
-  /// fitted again. The level sets of sparse or unevenly scanned trunks leave such spurs, and each took
+  /// stub: the radii are fitted again without it (its circle fits take in the points of the branch
+  /// it sticks out of, and as a tip it cut that branch's taper in two), then it is hung back as a
+  /// cylinder carrying its own length only in the pipe model (no tip allowance). The level sets of sparse or unevenly scanned trunks leave such spurs, and each took
   /// a twig's share of the trunk: on the synthetic trees thinned with height, seven spurs of 4-12 cm
   /// on a trunk 2.7 cm thick left it 0.67 of its true radius above them. 0: every tip is a twig.
   /// Only with a cloud. Chosen on the synthetic trees (docs/models.md, "Stubs").
