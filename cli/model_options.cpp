@@ -25,10 +25,11 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
                "above such forks thins far faster than its points (docs/models.md)")
       ->default_val(r.max_share_over_pipe)->check(off_or_at_least(1.0))->group(g);
   c.add_option("--stub-length", r.stub_length,
-               "A tip shorter than K radii of the branch it leaves is a stub: it carries its own length only in the "
-               "pipe model and its circle fits (of the points of the branch it sticks out of) are not used. The "
-               "level sets of sparse or unevenly scanned trunks leave such spurs, and as twigs each took a twig's "
-               "share of the trunk (0: every tip is a twig; docs/models.md)")
+               "A tip shorter than K radii of the branch it leaves is a stub: the radii are fitted without it, and "
+               "it is hung back as a cylinder carrying its own length only in the pipe model (its circle fits, of the "
+               "points of the branch it sticks out of, are not used). The level sets of sparse or unevenly scanned "
+               "trunks leave such spurs, and as twigs each took a twig's share of the trunk (0: every tip is a twig; "
+               "docs/models.md)")
       ->default_val(r.stub_length)->check(not_negative())->group(g);
   c.add_option("--stiffness", r.stiffness,
                "Smooth each limb's path over K times its radius once the radii are fitted: a trunk or limb then "
