@@ -69,6 +69,37 @@ std::vector<double> non_increasing_fit(const std::vector<double>& y, const std::
   return out;
 }
 
+/// The children of a fork whose share of it passes their limit (`limit`, shares of the fork): over
+/// it when `cap`, under it otherwise. Those take exactly their limit and the others share what is
+/// left as their estimates say; found in rounds, since settling one changes what is left for the
+/// rest. Stops early when the others have nothing left (`free_total` 0, or `settled_share` 1).
+struct Settled {
+  std::vector<bool> at_limit;
+  double free_total = 0.0;     ///< what the estimates of the children not at their limit sum to
+  double settled_share = 0.0;  ///< the share of the fork the children at their limit take
+};
+
+Settled settle_at_limits(const std::vector<double>& estimate, const std::vector<double>& limit, bool cap) {
+  Settled s;
+  s.at_limit.assign(estimate.size(), false);
+  for (bool changed = true; changed;) {
+    changed = false;
+    s.free_total = 0.0;
+    s.settled_share = 0.0;
+    for (std::size_t i = 0; i < estimate.size(); ++i) {
+      if (s.at_limit[i]) s.settled_share += limit[i];
+      else s.free_total += estimate[i];
+    }
+    if (!(s.free_total > 0.0) || s.settled_share >= 1.0) break;
+    for (std::size_t i = 0; i < estimate.size(); ++i) {
+      if (s.at_limit[i]) continue;
+      const double share = (1.0 - s.settled_share) * estimate[i] / s.free_total;
+      if (cap ? share > limit[i] : share < limit[i]) s.at_limit[i] = changed = true;
+    }
+  }
+  return s;
+}
+
 }  // namespace
 
 CircleFit fit_circle(const std::vector<Eigen::Vector2d>& q) {
@@ -302,60 +333,34 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
     // The share each child may take at most; a child over it gets exactly it, and the others share
     // the rest as their estimates say. (Bounded against the sum of the estimates, a child's own
     // estimate raised its bound: a 7 cm spur off a synthetic tree's trunk took 45% of its cross
-    // section with a pipe share of 6%.) The children over their bound are found by raising it in
-    // rounds: capping one leaves less for the rest, which can put another over.
+    // section with a pipe share of 6%.) The children over their bound are found in rounds
+    // (settle_at_limits).
     std::vector<double> cap(estimate.size());
     for (std::size_t i = 0; i < estimate.size(); ++i) cap[i] = options.max_share_over_pipe * carries[i] / carried_total;
-    std::vector<bool> capped(estimate.size(), false);
-    double free_total = 0.0, capped_share = 0.0;
-    for (bool changed = true; changed;) {
-      changed = false;
-      free_total = 0.0;
-      capped_share = 0.0;
-      for (std::size_t i = 0; i < estimate.size(); ++i) {
-        if (capped[i]) capped_share += cap[i];
-        else free_total += estimate[i];
-      }
-      if (!(free_total > 0.0) || capped_share >= 1.0) {
-        // Nothing left for the others (K = 1 caps every child wherever one is over): each child
-        // gets its pipe share of what the estimates sum to.
-        const double sum = std::accumulate(estimate.begin(), estimate.end(), 0.0);
-        for (std::size_t i = 0; i < estimate.size(); ++i) estimate[i] = sum * carries[i] / carried_total;
-        return;
-      }
-      const double total = free_total / (1.0 - capped_share);  // the fork, once the capped take their bound
-      for (std::size_t i = 0; i < estimate.size(); ++i)
-        if (!capped[i] && estimate[i] > cap[i] * total) capped[i] = changed = true;
+    const Settled capped = settle_at_limits(estimate, cap, true);
+    if (!(capped.free_total > 0.0) || capped.settled_share >= 1.0) {
+      // Nothing left for the others (K = 1 caps every child wherever one is over): each child
+      // gets its pipe share of what the estimates sum to.
+      const double sum = std::accumulate(estimate.begin(), estimate.end(), 0.0);
+      for (std::size_t i = 0; i < estimate.size(); ++i) estimate[i] = sum * carries[i] / carried_total;
+      return;
     }
-    const double total = free_total / (1.0 - capped_share);
+    const double total = capped.free_total / (1.0 - capped.settled_share);  // the fork, once the capped take their bound
     for (std::size_t i = 0; i < estimate.size(); ++i)
-      if (capped[i]) estimate[i] = cap[i] * total;
+      if (capped.at_limit[i]) estimate[i] = cap[i] * total;
   };
 
   // No child of a fork gets less than `min_share_of_pipe` of its pipe share: those under it get
-  // exactly that, the others share the rest as their estimates say (found in rounds, as above).
+  // exactly that, the others share the rest as their estimates say, and the fork keeps its total.
   auto floor_fork = [&](std::vector<double>& estimate, const std::vector<double>& carries) {
     const double carried_total = std::accumulate(carries.begin(), carries.end(), 0.0);
     const double total = std::accumulate(estimate.begin(), estimate.end(), 0.0);
     if (!(options.min_share_of_pipe > 0.0 && carried_total > 0.0 && total > 0.0)) return;
     std::vector<double> least(estimate.size());
     for (std::size_t i = 0; i < estimate.size(); ++i) least[i] = options.min_share_of_pipe * carries[i] / carried_total;
-    std::vector<bool> raised(estimate.size(), false);
-    double free_total = 0.0, raised_share = 0.0;
-    for (bool changed = true; changed;) {
-      changed = false;
-      free_total = 0.0;
-      raised_share = 0.0;
-      for (std::size_t i = 0; i < estimate.size(); ++i) {
-        if (raised[i]) raised_share += least[i];
-        else free_total += estimate[i];
-      }
-      if (!(free_total > 0.0)) break;
-      for (std::size_t i = 0; i < estimate.size(); ++i)
-        if (!raised[i] && (1.0 - raised_share) * estimate[i] / free_total < least[i]) raised[i] = changed = true;
-    }
+    const Settled raised = settle_at_limits(estimate, least, false);
     for (std::size_t i = 0; i < estimate.size(); ++i)
-      estimate[i] = total * (raised[i] ? least[i] : (1.0 - raised_share) * estimate[i] / free_total);
+      estimate[i] = total * (raised.at_limit[i] ? least[i] : (1.0 - raised.settled_share) * estimate[i] / raised.free_total);
   };
 
   std::vector<double> area(n, 0.0);  // r^e
@@ -520,8 +525,8 @@ void fit_radii(Skeleton& skeleton, const PointCloud* cloud, const RadiusOptions&
   const std::vector<RadiusMeasurement> fits =
       cloud != nullptr ? measure_node_radii(skeleton, *cloud, options) : std::vector<RadiusMeasurement>{};
   fit_radii_once(skeleton, cloud, options, stats, &fits);
-  // Stubs: tips shorter than `stub_length` radii of the branch they leave carry their own length
-  // only, their fits unused, and the radii are fitted again.
+  // Stubs: tips shorter than `stub_length` radii of the branch they leave. The radii are fitted
+  // again without them, and they are hung back carrying their own length only.
   std::vector<bool> light;
   std::size_t stubs = 0;
   if (cloud != nullptr && options.stub_length > 0.0) {
