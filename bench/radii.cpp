@@ -1,7 +1,9 @@
 // How close the fitted radii come to known ones.
 //
 //   bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E] [--stem-share-bound K] [--stiffness F]
-//   (E: Leonardo exponent, 2 by default; F: the limbs' stiffness, `treeskel model --stiffness`)
+//               [--stub-length K] [--prune-radius P]
+//   (E: Leonardo exponent, 2 by default; F: the limbs' stiffness, `treeskel model --stiffness`; K and P: the
+//   model's `--stub-length` and `--prune-radius`)
 //
 // - The paper's six synthetic trees (eval::make_paper_tree): the clean cloud of each (the paper's
 //   first point count) is skeletonized, radii fitted, and compared with the generating cylinders.
@@ -162,6 +164,8 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   std::string pypetree, archi;
   modeling::RadiusOptions radius_options;
+  SkeletonOptions skeleton_options;  // pruned as `treeskel model` prunes
+  skeleton_options.prune.radius_factor = modeling::kModelPruneRadius;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--seed" && i + 1 < argc) seed = std::stoull(argv[++i]);
@@ -170,8 +174,10 @@ int main(int argc, char** argv) {
     else if (a == "--exponent" && i + 1 < argc) radius_options.exponent = std::stod(argv[++i]);
     else if (a == "--stem-share-bound" && i + 1 < argc) radius_options.max_share_over_pipe = std::stod(argv[++i]);
     else if (a == "--stiffness" && i + 1 < argc) radius_options.stiffness = std::stod(argv[++i]);
+    else if (a == "--stub-length" && i + 1 < argc) radius_options.stub_length = std::stod(argv[++i]);
+    else if (a == "--prune-radius" && i + 1 < argc) skeleton_options.prune.radius_factor = std::stod(argv[++i]);
     else {
-      std::cout << "usage: bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E] [--stem-share-bound K] [--stiffness F]\n";
+      std::cout << "usage: bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E] [--stem-share-bound K] [--stiffness F] [--stub-length K] [--prune-radius P]\n";
       return a == "-h" || a == "--help" ? 0 : 2;
     }
   }
@@ -181,7 +187,7 @@ int main(int argc, char** argv) {
     const eval::GroundTruth truth = eval::make_paper_tree(index, seed);
     const auto clouds = eval::make_paper_clouds(truth, index, seed);
     const auto& clean = clouds.front();
-    Skeleton s = extract_skeleton(clean.cloud);
+    Skeleton s = extract_skeleton(clean.cloud, skeleton_options);
     modeling::fit_radii(s, &clean.cloud, radius_options);
     const RadiusError e = compare(s, truth.skeleton);
     sum += e.mean;
@@ -197,7 +203,7 @@ int main(int argc, char** argv) {
       std::cerr << "bench_radii: no pypetree files in " << pypetree << '\n';
       return 1;
     }
-    SkeletonOptions o;
+    SkeletonOptions o = skeleton_options;
     o.root.up = Eigen::Vector3d::UnitY();
     const Skeleton extracted = extract_skeleton(cloud, o);
     auto error_at = [&](const modeling::RadiusOptions& options) {
@@ -219,7 +225,7 @@ int main(int argc, char** argv) {
   if (!archi.empty()) {
     const std::string las = archi + "/Tree_1_point_cloud.las", qsm = archi + "/Tree_1_TreeQSM.txt";
     const PointCloud cloud = io::read_point_cloud(las);
-    Skeleton s = extract_skeleton(cloud);
+    Skeleton s = extract_skeleton(cloud, skeleton_options);
     modeling::fit_radii(s, &cloud, radius_options);
     const modeling::TreeMeasurements m = modeling::measure_tree(s, &cloud);
     double base = std::numeric_limits<double>::infinity();

@@ -597,6 +597,7 @@ void add_tree_options(CLI::App& c, BatchSettings& s) {
   const auto before = c.get_options();
   add_model_options(c, s.model_settings);
   const auto with_model = c.get_options();
+  use_model_defaults(s.method);  // each tree's own process takes its command's: skeletonize keeps 1.75
   add_skeleton_options(c, s.method);
   c.add_option("--html-points", s.html_points, "With --html or --preview: at most this many of a cloud's points in its page")
       ->check(CLI::PositiveNumber);

@@ -330,6 +330,7 @@ Command add_model(CLI::App& app) {
   c->add_flag("--json", s->json, "Print the JSON report on stdout instead of the summary");
   c->add_flag("-q,--quiet", s->quiet, "Print nothing but errors");
   add_model_options(*c, *s);
+  use_model_defaults(s->method);
   add_skeleton_options(*c, s->method);
   return [s] { return run(*s); };
 }

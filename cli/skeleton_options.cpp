@@ -7,6 +7,7 @@
 #include "treeskel/forest/wood.h"
 #include "treeskel/io/atomic_file.h"
 #include "treeskel/io/skeleton_io.h"
+#include "treeskel/modeling/radii.h"
 
 #include <cmath>
 #include <iostream>
@@ -103,7 +104,9 @@ void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
       ->default_val(o.level_sets.band_width)->check(not_negative())->group(g);
   c.add_option("--prune-length", o.prune.min_length, "Remove leaf branches shorter than this (0: 1 band)")
       ->default_val(o.prune.min_length)->check(not_negative())->group(g);
-  c.add_option("--prune-radius", o.prune.radius_factor, "... or that stay within this many radii of the branch they leave")
+  c.add_option("--prune-radius", o.prune.radius_factor,
+               "... or that stay within this many radii of the branch they leave (skeletonize: 1.75; a model: 1, "
+               "keeping more twigs for the mesh to show; docs/models.md)")
       ->default_val(o.prune.radius_factor)->check(not_negative())->group(g);
   c.add_option("--cpc-weight", o.cpc.weight, "Weight w of the equal-distance (cylinder) term of CPC")
       ->default_val(o.cpc.weight)->check(not_negative())->group(g);
@@ -127,6 +130,8 @@ void check_skeleton_settings(const SkeletonSettings& s) {
   parse_up(s.up);
   if (!s.root.empty()) parse_vector(s.root, "--root");
 }
+
+void use_model_defaults(SkeletonSettings& s) { s.options.prune.radius_factor = modeling::kModelPruneRadius; }
 
 SkeletonOptions skeleton_options_for(const SkeletonSettings& s, const PointCloud& cloud) {
   SkeletonOptions o = s.options;

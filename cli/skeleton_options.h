@@ -43,6 +43,11 @@ inline const char* leaves_option(const SkeletonSettings& s) { return s.wood_only
 /// Adds the method's options to `command`, in the group "Method".
 void add_skeleton_options(CLI::App& command, SkeletonSettings& settings);
 
+/// What a command that writes a model starts from: the model's pruning (modeling::kModelPruneRadius,
+/// where skeletonize keeps the skeleton's). Call before add_skeleton_options, so that --help shows it
+/// and the command line still sets it.
+void use_model_defaults(SkeletonSettings& settings);
+
 /// The options for `cloud`, the command line applied (`--root` is given in the input frame).
 SkeletonOptions skeleton_options_for(const SkeletonSettings& settings, const PointCloud& cloud);
 

@@ -84,6 +84,7 @@ std::string flag_of(const std::string& key) {
 Options parse_options(const py::kwargs& kwargs, bool method, bool model, const std::string& function) {
   Options o;
   CLI::App app{function};
+  if (method && model) cli::use_model_defaults(o.method);  // model(): the model's pruning
   if (method) cli::add_skeleton_options(app, o.method);
   if (model) cli::add_model_options(app, o.model);
   std::vector<std::string> args{function};

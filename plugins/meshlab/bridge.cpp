@@ -97,9 +97,11 @@ void report(ProgressFn progress, const std::string& stage, double done, int begi
 }
 
 /// The skeleton of `cloud` with radii from the pipe model, reporting progress in [0, end] percent.
+/// `for_mesh`: pruned as `treeskel model` prunes (modeling::kModelPruneRadius), else as skeletonize.
 Skeleton skeleton_of(const PointCloud& cloud, const SkeletonParams& sp, const ModelParams& mp, ProgressFn progress,
-                     int end) {
+                     int end, bool for_mesh) {
   SkeletonOptions o = options_of(sp);
+  if (for_mesh) o.prune.radius_factor = modeling::kModelPruneRadius;
   const int skeleton_end = end * 9 / 10;
   if (progress) o.progress = [&](const std::string& stage, double done) { report(progress, stage, done, 0, skeleton_end); };
   SkeletonStats stats;
@@ -245,7 +247,7 @@ bool tree_skeleton(const std::vector<double>& xyz, const SkeletonParams& sp, con
   return guarded(error, [&] {
     Source source = source_of(xyz, sp);
     const PointCloud& cloud = source.cloud;
-    const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 100);
+    const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 100, false);
     SkeletonLayer layer;
     take_notes(source, layer);
     for (NodeId v = 0; v < skeleton.node_count(); ++v) {
@@ -271,7 +273,7 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
   return guarded(error, [&] {
     Source source = source_of(xyz, sp);
     const PointCloud& cloud = source.cloud;
-    const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 70);
+    const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 70, true);
     report(progress, "sweeping the mesh", 0.7, 0, 100);
     const modeling::SweepOptions so = options_of(mp).sweep;
     modeling::SweepStats stats;

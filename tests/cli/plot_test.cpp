@@ -196,13 +196,14 @@ std::unique_ptr<test::TempDir> LPine1Plot::dir_;
 // rounded to floats wherever a union cut them, and the unions were thrown away and redone 186 times
 // (406 s, 979,894 triangles). Now one union takes it in (254,754 triangles then). (9 unions in all
 // with the skeleton's path, 13 with the limbs straightened, the default since 6 December 2026, and 18
-// with stubs and the exact bound on a stem fork's shares, the same day: 143,894 triangles.)
+// with stubs and the exact bound on a stem fork's shares, the same day: 143,894 triangles; 25 with
+// a model's pruning at one radius, later that day: 188,458 triangles.)
 TEST_F(LPine1Plot, ALimbOfAPineIsSweptOnce) {
   ASSERT_TRUE(fs::exists(tree("011")));
   const Result r = run("model " + quoted(tree("011")) + " -q -o " + quoted(dir.path("t.glb")) + " --report " + quoted(dir.path("r.json")));
   ASSERT_EQ(r.code, 0) << r.out;
   const auto mesh = read_json(dir.path("r.json"))["mesh"];
-  EXPECT_LE(mesh["unions"].get<int>(), 24) << mesh.dump();
+  EXPECT_LE(mesh["unions"].get<int>(), 30) << mesh.dump();
   EXPECT_LT(mesh["triangles"].get<int>(), 400000) << mesh.dump();
   EXPECT_EQ(mesh["pieces_failed"].get<int>(), 0) << mesh.dump();
   EXPECT_GE(mesh["skeleton_coverage"].get<double>(), 0.97) << mesh.dump();

@@ -3,6 +3,7 @@
 #include "support/synthetic.h"
 #include "treeskel/io/point_cloud_io.h"
 #include "treeskel/modeling/radii.h"
+#include "treeskel/modeling/sweep.h"
 #include "treeskel/pipeline.h"
 
 #include <Eigen/Core>
@@ -169,6 +170,30 @@ TEST(MeshlabBridge, MeshLayerIsClosedAndOriented) {
   EXPECT_TRUE(std::is_sorted(percents.begin(), percents.end()));
   EXPECT_EQ(percents.back(), 100);
   EXPECT_NE(layer.summary.find("closed, manifold, no self-intersection"), std::string::npos);
+}
+
+// The mesh filter's skeleton is pruned as `treeskel model` prunes (modeling::kModelPruneRadius), the
+// skeleton filter's as `skeletonize` does: the mesh is the library's model of the skeleton pruned at
+// one radius, which has more nodes than the skeleton filter's layer.
+TEST(MeshlabBridge, MeshFilterPrunesAsTheModelCommand) {
+  const std::vector<double> xyz = flat_cloud("tree_adtree1.xyz");
+  MeshLayer mesh;
+  SkeletonLayer skeleton_layer;
+  std::string error;
+  ASSERT_TRUE(tree_mesh(xyz, default_skeleton_params(), default_model_params(), nullptr, mesh, error)) << error;
+  ASSERT_TRUE(tree_skeleton(xyz, default_skeleton_params(), default_model_params(), nullptr, skeleton_layer, error)) << error;
+
+  const PointCloud cloud = io::read_point_cloud(test::data_file("tree_adtree1.xyz"));
+  SkeletonOptions as_model;
+  as_model.prune.radius_factor = modeling::kModelPruneRadius;
+  SkeletonStats stats;
+  Skeleton skeleton = extract_skeleton(cloud, as_model, &stats);
+  EXPECT_GT(skeleton.node_count(), skeleton_layer.radius.size());
+  EXPECT_EQ(extract_skeleton(cloud).node_count(), skeleton_layer.radius.size());
+  modeling::RadiusOptions radii;
+  radii.cell_size = stats.cell_size;
+  modeling::fit_radii(skeleton, &cloud, radii);
+  EXPECT_EQ(mesh.triangles.size() / 3, modeling::sweep_mesh(skeleton).n_faces());
 }
 
 TEST(MeshlabBridge, MeshLayerCarriesTheCommandsWarnings) {

@@ -326,8 +326,8 @@ TEST(FitRadii, StubsDoNotRestartTheTaperOfTheBranchTheyLeave) {
         t.cloud.positions[p] = t.skeleton[v].position + 0.5 * (t.cloud.positions[p] - t.skeleton[v].position);
     return t;
   };
-  StubTree with = narrowed(stub_tree({Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()}, 0.6));
-  StubTree without = narrowed(stub_tree({}, 0.6));
+  StubTree with = narrowed(stub_tree({Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()}, 0.9));
+  StubTree without = narrowed(stub_tree({}, 0.9));
   RadiusStats stats;
   fit_radii(with.skeleton, &with.cloud, {}, &stats);
   ASSERT_EQ(stats.stubs, 3u);
@@ -381,15 +381,15 @@ TEST(FitRadii, AChildTheFitsDoNotMeasureGetsAtLeastAQuarterOfItsPipeShare) {
   }
 }
 
-// The same stubs, 2 trunk radii long, under the default 5 (the twigs 0.6 m long, 6 trunk radii;
+// The same stubs, 2 trunk radii long, under the default 8 (the twigs 0.9 m long, 9 trunk radii;
 // the trunk's last 0.1 m above the top twig is a stub too): they carry their own length only, their
 // fits unused, and the trunk above the fork keeps almost all of its cross section. With stubs off
 // they are twigs, and the trunk above them narrows. The report says how many stubs.
-TEST(FitRadii, TipsShorterThanFiveRadiiOfTheirBranchAreStubs) {
-  StubTree t = stub_tree({Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()}, 0.6);
+TEST(FitRadii, TipsShorterThanEightRadiiOfTheirBranchAreStubs) {
+  StubTree t = stub_tree({Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()}, 0.9);
   Skeleton s = t.skeleton;
   RadiusOptions o;
-  ASSERT_EQ(o.stub_length, 5.0);  // the default
+  ASSERT_EQ(o.stub_length, 8.0);  // the default
   RadiusStats stats;
   fit_radii(s, &t.cloud, o, &stats);
   expect_pipe_model(s, 2.0);

@@ -32,6 +32,15 @@ struct RadiusMeasurement {
   double weight = 0.0;  ///< reliability in [0, 1]: 0 for unmeasured nodes, 1 for a well covered, clean circle
 };
 
+/// The factor the skeleton of a model is pruned with (`PruneOptions::radius_factor`; `skeletonize`
+/// keeps the skeleton's 1.75): a leaf branch is removed when it stays within one radius (plus half a
+/// band) of the branch it leaves. The twigs between the two lie along their hosts and are spurs of
+/// the level sets about as often as real short branches. A skeleton keeps its branch points precise
+/// by removing them; a model needs their wood, without which up to 8% of a real cloud's points (the
+/// pine's of TreeLS) lay farther than 2% of the tree's height from the mesh. The short ones are
+/// stubs (`RadiusOptions::stub_length`), so the two were chosen together (docs/models.md).
+inline constexpr double kModelPruneRadius = 1.0;
+
 struct RadiusOptions {
   /// Leonardo exponent e: r_parent^e = sum of r_child^e at every fork. 2 is the pipe model (areas).
   double exponent = 2.0;
@@ -73,11 +82,12 @@ struct RadiusOptions {
   /// A tip shorter than this many radii of the branch it leaves (as a first fit gives them) is a
   /// stub: the radii are fitted again without it (its circle fits take in the points of the branch
   /// it sticks out of, and as a tip it cut that branch's taper in two), then it is hung back as a
-  /// cylinder carrying its own length only in the pipe model (no tip allowance). The level sets of sparse or unevenly scanned trunks leave such spurs, and each took
-  /// a twig's share of the trunk: on the synthetic trees thinned with height, seven spurs of 4-12 cm
+  /// cylinder carrying its own length only in the pipe model (no tip allowance). The level sets of
+  /// sparse or unevenly scanned trunks leave such spurs, and each took a twig's share of the trunk: on the synthetic trees thinned with height, seven spurs of 4-12 cm
   /// on a trunk 2.7 cm thick left it 0.67 of its true radius above them. 0: every tip is a twig.
-  /// Only with a cloud. Chosen on the synthetic trees (docs/models.md, "Stubs").
-  double stub_length = 5.0;
+  /// Only with a cloud. Chosen on the synthetic trees together with `kModelPruneRadius` (docs/models.md,
+  /// "Stubs" and "What pruning costs a model").
+  double stub_length = 8.0;
   /// After fitting, grow branches through the points that the fitted tubes leave more than a margin
   /// outside (`complete_skeleton`), then fit again: a model that reaches the parts of a crowded or
   /// sparse crown the skeleton passes by. The grafted twigs carry their own length only in the pipe
