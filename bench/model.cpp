@@ -110,7 +110,9 @@ int main(int argc, char** argv) {
       double t0 = now();
       const PointCloud cloud = io::read_point_cloud(file);
       const double t1 = now();
-      Skeleton s = extract_skeleton(cloud);
+      SkeletonOptions as_model;  // pruned as `treeskel model` prunes
+      as_model.prune.radius_factor = modeling::kModelPruneRadius;
+      Skeleton s = extract_skeleton(cloud, as_model);
       const double t2 = now();
       modeling::fit_radii(s, &cloud);
       const double t3 = now();
