@@ -26,6 +26,9 @@ node -e '
   if (a1 > a2) fail("the axis within 1% above its within 2%");
   if (a2 > m2) fail("the bare axis is near more points than the mesh around it");
   if (a2 < 0.8 || m2 < 0.9) fail("far less of the tree than the coverage table says");
+  // Issue 12 asks 0.95 within 2% of the height of every real cloud; this one has 0.996 (0.993 while
+  // the model pruned as skeletonize does) and 0.902 within 1% (0.880).
+  if (m2 < 0.95 || m1 < 0.89) fail("under what the model reaches on this tree (0.95 within 2%, 0.89 within 1%)");
   if (m2 < 1 && missedNear === "-") fail("points missed but none measured against the axis");
   if (missedNear !== "-") share(missedNear);
   if (!(Number(seconds) > 0)) fail("seconds");
