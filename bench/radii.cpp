@@ -1,9 +1,9 @@
 // How close the fitted radii come to known ones.
 //
 //   bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E] [--stem-share-bound K] [--stiffness F]
-//               [--stub-length K] [--prune-radius P]
-//   (E: Leonardo exponent, 2 by default; F: the limbs' stiffness, `treeskel model --stiffness`; K and P: the
-//   model's `--stub-length` and `--prune-radius`)
+//               [--stub-length K] [--prune-radius P] [--fork-margin M]
+//   (E: Leonardo exponent, 2 by default; F: the limbs' stiffness, `treeskel model --stiffness`; K, P and M:
+//   the model's `--stub-length`, `--prune-radius` and `--fork-margin`)
 //
 // - The paper's six synthetic trees (eval::make_paper_tree): the clean cloud of each (the paper's
 //   first point count) is skeletonized, radii fitted, and compared with the generating cylinders.
@@ -175,9 +175,10 @@ int main(int argc, char** argv) {
     else if (a == "--stem-share-bound" && i + 1 < argc) radius_options.max_share_over_pipe = std::stod(argv[++i]);
     else if (a == "--stiffness" && i + 1 < argc) radius_options.stiffness = std::stod(argv[++i]);
     else if (a == "--stub-length" && i + 1 < argc) radius_options.stub_length = std::stod(argv[++i]);
+    else if (a == "--fork-margin" && i + 1 < argc) radius_options.fork_margin = std::stod(argv[++i]);
     else if (a == "--prune-radius" && i + 1 < argc) skeleton_options.prune.radius_factor = std::stod(argv[++i]);
     else {
-      std::cout << "usage: bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E] [--stem-share-bound K] [--stiffness F] [--stub-length K] [--prune-radius P]\n";
+      std::cout << "usage: bench_radii [--seed S] [--pypetree DIR] [--archi DIR] [--exponent E] [--stem-share-bound K] [--stiffness F] [--stub-length K] [--prune-radius P] [--fork-margin M]\n";
       return a == "-h" || a == "--help" ? 0 : 2;
     }
   }

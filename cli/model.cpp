@@ -205,6 +205,7 @@ int run(Settings& s) {
                 {"exponent", s.radii.exponent},
                 {"stem_share_bound", s.radii.max_share_over_pipe},
                 {"stub_length", s.radii.stub_length},
+                {"fork_margin", s.radii.fork_margin},
                 {"stubs", radius_stats.stubs},
                 {"base_lowered", radius_stats.base_lowered},
                 {"stiffness", s.radii.stiffness},

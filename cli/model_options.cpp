@@ -31,6 +31,11 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
                "trunks leave such spurs, and as twigs each took a twig's share of the trunk (0: every tip is a twig; "
                "docs/models.md)")
       ->default_val(r.stub_length)->check(not_negative())->group(g);
+  c.add_option("--fork-margin", r.fork_margin,
+               "Along a branch that ends in a fork, leave out of its taper the circle fits within K of their own radii "
+               "of the fork: the level sets split there and the last node's circle comes out small, which pulled the "
+               "branch and all it carries thinner (0: every fit counts; docs/models.md)")
+      ->default_val(r.fork_margin)->check(not_negative())->group(g);
   c.add_option("--stiffness", r.stiffness,
                "Smooth each limb's path over K times its radius once the radii are fitted: a trunk or limb then "
                "bends no more sharply than its thickness allows, where a sparse scan's skeleton wandered from twig "

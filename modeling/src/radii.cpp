@@ -238,6 +238,8 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
     throw OptionError("the bound on a child's share over the pipe model's must be 0 (none) or a finite number of at least 1");
   if (!(options.min_share_of_pipe >= 0.0 && options.min_share_of_pipe <= 1.0))
     throw OptionError("the least share of the pipe model's a child gets must be between 0 and 1");
+  if (!(options.fork_margin >= 0.0 && std::isfinite(options.fork_margin)))
+    throw OptionError("the margin before a fork must be a finite number of radii, at least 0");
   const ChainTree t = build_chains(skeleton);
   auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
@@ -405,17 +407,27 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
     // against the pipe model's own taper; the measurements weigh as far as there are enough of them.
     std::vector<double> model(k), p(k), w(k, 0.0);
     double confidence = 0.0;
+    const bool ends_in_fork = !t.chains[id].children.empty();
     for (std::size_t i = 0; i < k; ++i) {
       model[i] = carried[nodes[i]] / carried[nodes.front()];
       p[i] = model[i];
       const auto& m = measured[nodes[i]];
       if (i == 0 || m.weight <= 0.0) continue;
+      if (ends_in_fork && (g[nodes[i]].position - g[nodes.back()].position).norm() < options.fork_margin * m.radius)
+        continue;  // split by the fork ahead: small (RadiusOptions::fork_margin)
       p[i] = std::pow(m.radius, e) / start;
       w[i] = m.weight;
       confidence += m.weight;
     }
     p[0] = 1.0;
     w[0] = std::max(1.0, confidence);  // the start is fixed by the fork
+    // Past the last fit, the model's taper goes on from that fit, not from the start: the fork a
+    // branch ends in is never measured, and where the fits tapered less than the model, the fork
+    // dropped to the model's value, shared that with its children and thinned all they carry.
+    std::size_t last = 0;
+    for (std::size_t i = 1; i < k; ++i)
+      if (w[i] > 0.0) last = i;
+    for (std::size_t i = last + 1; i < k; ++i) p[i] = p[last] * model[i] / model[last];
     for (std::size_t i = 1; i < k; ++i)
       if (w[i] == 0.0) w[i] = 1e-3;  // unmeasured nodes follow the model, barely
     auto fitted = non_increasing_fit(p, w);

@@ -57,10 +57,12 @@ def test_model_equals_the_commands(exe, data, tmp_path):
     assert np.array_equal(skeleton.radii, fitted.radii) and np.array_equal(skeleton.positions, fitted.positions)
 
 
-@pytest.mark.parametrize("option, value, bad", [("stem_share_bound", 2, 0.5), ("stub_length", 0, -1)])
+@pytest.mark.parametrize("option, value, bad",
+                         [("stem_share_bound", 2, 0.5), ("stub_length", 0, -1), ("fork_margin", 0, -1)])
 def test_radius_options_as_the_command(exe, data, tmp_path, option, value, bad):
-    # The bound on a stem fork's shares and the stubs' length (0: every tip a twig) reach the radii
-    # as `model --stem-share-bound` and `--stub-length` do.
+    # The bound on a stem fork's shares, the stubs' length (0: every tip a twig) and the margin before
+    # a fork (0: every fit counts) reach the radii as `model --stem-share-bound`, `--stub-length` and
+    # `--fork-margin` do.
     flag = "--" + option.replace("_", "-")
     cloud = str(data / "tree_adtree1.xyz")
     skeleton = treeskel.extract_skeleton(cloud)

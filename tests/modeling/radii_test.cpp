@@ -381,6 +381,46 @@ TEST(FitRadii, AChildTheFitsDoNotMeasureGetsAtLeastAQuarterOfItsPipeShare) {
   }
 }
 
+// A trunk 2 m tall (nodes every 5 cm, rings of 0.1) forks at its top into two arms 1 m long whose
+// rings (0.0707) obey Leonardo's rule. The ring of the node 5 cm below the fork is 0.07, as a node
+// whose band the fork split keeps part of its points and fits a small circle. Taken into the
+// trunk's taper it pulled the trunk's end down (radii never grow toward the tips), and the arms
+// started under their own fits, which cannot raise them; within one of its radii of the fork
+// (RadiusOptions::fork_margin) it is left out, and the fork and the arms keep what their points say.
+TEST(FitRadii, AFitSplitByTheForkAheadDoesNotThinTheBranchAndAllItCarries) {
+  Skeleton s = test::lone_root(0.1);
+  const NodeId fork = test::add_run(s, s.root, Eigen::Vector3d(0, 0, 2), 0.1, 40);
+  const NodeId left_end = test::add_run(s, fork, Eigen::Vector3d(0.6, 0, 2.8), 0.0707, 20);
+  const NodeId right_end = test::add_run(s, fork, Eigen::Vector3d(-0.6, 0, 2.8), 0.0707, 20);
+  PointCloud cloud;
+  for (NodeId v = 0; v < fork; ++v) test::add_ring(s, cloud, v, Eigen::Vector3d::UnitZ(), v + 1 == fork ? 0.07 : 0.1);
+  for (NodeId v = fork + 1; v <= left_end; ++v) test::add_ring(s, cloud, v, Eigen::Vector3d(0.6, 0, 0.8), 0.0707);
+  for (NodeId v = left_end + 1; v <= right_end; ++v) test::add_ring(s, cloud, v, Eigen::Vector3d(-0.6, 0, 0.8), 0.0707);
+  ASSERT_EQ(validate(s, cloud.size()), "");
+  const NodeId arm = fork + 1;
+
+  RadiusOptions o;
+  ASSERT_EQ(o.fork_margin, 1.0);  // the default
+  Skeleton kept = s;
+  fit_radii(kept, &cloud, o);
+  expect_pipe_model(kept, 2.0);
+  EXPECT_NEAR(kept[fork].radius, 0.1, 0.002);
+  EXPECT_NEAR(kept[arm].radius, 0.0707, 0.0015);
+  EXPECT_NEAR(kept[left_end].radius, 0.0707, 0.0015);
+
+  o.fork_margin = 0.0;  // every fit counts
+  Skeleton pulled = s;
+  fit_radii(pulled, &cloud, o);
+  expect_pipe_model(pulled, 2.0);
+  EXPECT_LT(pulled[fork].radius, 0.095);
+  EXPECT_LT(pulled[arm].radius, 0.067);
+  EXPECT_LT(pulled[left_end].radius, 0.067);
+  for (double bad : {-1.0, std::numeric_limits<double>::infinity()}) {
+    o.fork_margin = bad;
+    EXPECT_THROW(fit_radii(pulled, &cloud, o), OptionError);
+  }
+}
+
 // The same stubs, 2 trunk radii long, under the default 8 (the twigs 0.9 m long, 9 trunk radii;
 // the trunk's last 0.1 m above the top twig is a stub too): they carry their own length only, their
 // fits unused, and the trunk above the fork keeps almost all of its cross section. With stubs off
