@@ -421,15 +421,15 @@ TEST(FitRadii, AFitSplitByTheForkAheadDoesNotThinTheBranchAndAllItCarries) {
   }
 }
 
-// The same stubs, 2 trunk radii long, under the default 8 (the twigs 0.9 m long, 9 trunk radii;
+// The same stubs, 2 trunk radii long, under the default 6.5 (the twigs 0.9 m long, 9 trunk radii;
 // the trunk's last 0.1 m above the top twig is a stub too): they carry their own length only, their
 // fits unused, and the trunk above the fork keeps almost all of its cross section. With stubs off
 // they are twigs, and the trunk above them narrows. The report says how many stubs.
-TEST(FitRadii, TipsShorterThanEightRadiiOfTheirBranchAreStubs) {
+TEST(FitRadii, TipsShorterThanTheStubLengthAreStubs) {
   StubTree t = stub_tree({Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()}, 0.9);
   Skeleton s = t.skeleton;
   RadiusOptions o;
-  ASSERT_EQ(o.stub_length, 8.0);  // the default
+  ASSERT_EQ(o.stub_length, 6.5);  // the default
   RadiusStats stats;
   fit_radii(s, &t.cloud, o, &stats);
   expect_pipe_model(s, 2.0);

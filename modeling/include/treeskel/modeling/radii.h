@@ -95,7 +95,7 @@ struct RadiusOptions {
   /// on a trunk 2.7 cm thick left it 0.67 of its true radius above them. 0: every tip is a twig.
   /// Only with a cloud. Chosen on the synthetic trees together with `kModelPruneRadius` (docs/models.md,
   /// "Stubs" and "What pruning costs a model").
-  double stub_length = 8.0;
+  double stub_length = 6.5;
   /// After fitting, grow branches through the points that the fitted tubes leave more than a margin
   /// outside (`complete_skeleton`), then fit again: a model that reaches the parts of a crowded or
   /// sparse crown the skeleton passes by. The grafted twigs carry their own length only in the pipe
