@@ -197,7 +197,8 @@ std::unique_ptr<test::TempDir> LPine1Plot::dir_;
 // (406 s, 979,894 triangles). Now one union takes it in (254,754 triangles then). (9 unions in all
 // with the skeleton's path, 13 with the limbs straightened, the default since 6 December 2026, and 18
 // with stubs and the exact bound on a stem fork's shares, the same day: 143,894 triangles; 25 with
-// a model's pruning at one radius, later that day: 188,458 triangles.)
+// a model's pruning at one radius, later that day: 188,458 triangles; 22 and 186,410 with stubs of
+// 6.5 radii.)
 TEST_F(LPine1Plot, ALimbOfAPineIsSweptOnce) {
   ASSERT_TRUE(fs::exists(tree("011")));
   const Result r = run("model " + quoted(tree("011")) + " -q -o " + quoted(dir.path("t.glb")) + " --report " + quoted(dir.path("r.json")));
@@ -210,8 +211,8 @@ TEST_F(LPine1Plot, ALimbOfAPineIsSweptOnce) {
 }
 
 // No limb is left out for want of corefinements: the union's budget is one a piece where there are
-// more than 48 pieces. Tree 10 of the plot, pruned as a model prunes, has 138 limbs to unite and
-// needs 57 corefinements; under a flat budget of 48, 67 limbs were left out and the mesh held 37% of
+// more than 48 pieces. Tree 10 of the plot, pruned as a model prunes, had 138 limbs to unite and
+// needed 57 corefinements (56 now); under a flat budget of 48, 67 limbs were left out and the mesh held 37% of
 // the skeleton.
 TEST_F(LPine1Plot, EveryLimbOfACrowdedPineIsUnited) {
   ASSERT_TRUE(fs::exists(tree("010")));
