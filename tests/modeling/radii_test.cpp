@@ -339,15 +339,29 @@ TEST(FitRadii, StubsDoNotRestartTheTaperOfTheBranchTheyLeave) {
   }
 }
 
+// A trunk from the origin up to `height` (`trunk_steps` edges) that forks into two arms 1 m long,
+// toward +x and -x and 0.8 m up (`arm_steps` edges each): the left arm's nodes first, then the right's.
+struct TwoArms {
+  Skeleton s;
+  NodeId fork, left_end, right_end;
+};
+
+TwoArms two_arms(double trunk_radius, double height, int trunk_steps, double arm_radius, int arm_steps) {
+  TwoArms t{test::lone_root(trunk_radius), 0, 0, 0};
+  t.fork = test::add_run(t.s, t.s.root, Eigen::Vector3d(0, 0, height), trunk_radius, trunk_steps);
+  t.left_end = test::add_run(t.s, t.fork, Eigen::Vector3d(0.6, 0, height + 0.8), arm_radius, arm_steps);
+  t.right_end = test::add_run(t.s, t.fork, Eigen::Vector3d(-0.6, 0, height + 0.8), arm_radius, arm_steps);
+  return t;
+}
+
 // A trunk 1 m tall with rings of 0.05 forks into two arms of 1 m: the points measure one, whose
 // rings (0.15) are three times the trunk's, and not the other. The unmeasured arm's estimate comes
 // from the global scale the trunk sets, nine times under its sibling's fit: alone it got a twentieth
 // of the fork; with the floor it gets a quarter of its pipe share (half the fork), an eighth.
 TEST(FitRadii, AChildTheFitsDoNotMeasureGetsAtLeastAQuarterOfItsPipeShare) {
-  Skeleton s = test::lone_root(0.05);
-  const NodeId fork = test::add_run(s, s.root, Eigen::Vector3d(0, 0, 1), 0.05, 10);
-  const NodeId measured_end = test::add_run(s, fork, Eigen::Vector3d(0.6, 0, 1.8), 0.05, 10);
-  const NodeId bare_end = test::add_run(s, fork, Eigen::Vector3d(-0.6, 0, 1.8), 0.05, 10);
+  TwoArms y = two_arms(0.05, 1.0, 10, 0.05, 10);
+  Skeleton& s = y.s;
+  const NodeId fork = y.fork, measured_end = y.left_end, bare_end = y.right_end;
   PointCloud cloud;
   for (NodeId v = 0; v < fork; ++v) test::add_ring(s, cloud, v, Eigen::Vector3d::UnitZ(), 0.05);
   for (NodeId v = fork + 1; v <= measured_end; ++v) test::add_ring(s, cloud, v, Eigen::Vector3d(0.6, 0, 0.8), 0.15);
@@ -388,10 +402,9 @@ TEST(FitRadii, AChildTheFitsDoNotMeasureGetsAtLeastAQuarterOfItsPipeShare) {
 // started under their own fits, which cannot raise them; within one of its radii of the fork
 // (RadiusOptions::fork_margin) it is left out, and the fork and the arms keep what their points say.
 TEST(FitRadii, AFitSplitByTheForkAheadDoesNotThinTheBranchAndAllItCarries) {
-  Skeleton s = test::lone_root(0.1);
-  const NodeId fork = test::add_run(s, s.root, Eigen::Vector3d(0, 0, 2), 0.1, 40);
-  const NodeId left_end = test::add_run(s, fork, Eigen::Vector3d(0.6, 0, 2.8), 0.0707, 20);
-  const NodeId right_end = test::add_run(s, fork, Eigen::Vector3d(-0.6, 0, 2.8), 0.0707, 20);
+  TwoArms y = two_arms(0.1, 2.0, 40, 0.0707, 20);
+  Skeleton& s = y.s;
+  const NodeId fork = y.fork, left_end = y.left_end, right_end = y.right_end;
   PointCloud cloud;
   for (NodeId v = 0; v < fork; ++v) test::add_ring(s, cloud, v, Eigen::Vector3d::UnitZ(), v + 1 == fork ? 0.07 : 0.1);
   for (NodeId v = fork + 1; v <= left_end; ++v) test::add_ring(s, cloud, v, Eigen::Vector3d(0.6, 0, 0.8), 0.0707);
