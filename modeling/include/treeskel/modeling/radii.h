@@ -91,10 +91,11 @@ struct RadiusOptions {
   /// stub: the radii are fitted again without it (its circle fits take in the points of the branch
   /// it sticks out of, and as a tip it cut that branch's taper in two), then it is hung back as a
   /// cylinder carrying its own length only in the pipe model (no tip allowance). The level sets of
-  /// sparse or unevenly scanned trunks leave such spurs, and each took a twig's share of the trunk: on the synthetic trees thinned with height, seven spurs of 4-12 cm
-  /// on a trunk 2.7 cm thick left it 0.67 of its true radius above them. 0: every tip is a twig.
-  /// Only with a cloud. Chosen on the synthetic trees together with `kModelPruneRadius` (docs/models.md,
-  /// "Stubs" and "What pruning costs a model").
+  /// sparse or unevenly scanned trunks leave such spurs, and each took a twig's share of the trunk:
+  /// on the synthetic trees thinned with height, seven spurs of 4-12 cm on a trunk 2.7 cm thick left
+  /// it 0.67 of its true radius above them. 0: every tip is a twig. Only with a cloud. Chosen on the
+  /// synthetic trees together with `kModelPruneRadius` and `fork_margin` (docs/models.md, "Stubs" and
+  /// "A model prunes less than a skeleton").
   double stub_length = 6.5;
   /// After fitting, grow branches through the points that the fitted tubes leave more than a margin
   /// outside (`complete_skeleton`), then fit again: a model that reaches the parts of a crowded or
