@@ -184,6 +184,20 @@ class LPine1Plot : public ::testing::Test {
   static void TearDownTestSuite() { dir_.reset(); }
   /// Tree `id` ("004") of the plot, as a cloud file.
   static std::string tree(const std::string& id) { return dir_->path("out/trees/tree_" + id + ".ply"); }
+  /// The `mesh` part of the report `treeskel model` writes for tree `id` (null, with a failure, if
+  /// the tree or the model is missing).
+  nlohmann::json model_mesh(const std::string& id) const {
+    if (!fs::exists(tree(id))) {
+      ADD_FAILURE() << "no tree " << id;
+      return nullptr;
+    }
+    const Result r = run("model " + quoted(tree(id)) + " -q -o " + quoted(dir.path("t.glb")) + " --report " + quoted(dir.path("r.json")));
+    if (r.code != 0) {
+      ADD_FAILURE() << r.out;
+      return nullptr;
+    }
+    return read_json(dir.path("r.json"))["mesh"];
+  }
   const test::TempDir dir;  // this test's own outputs
  private:
   static std::unique_ptr<test::TempDir> dir_;
@@ -200,10 +214,8 @@ std::unique_ptr<test::TempDir> LPine1Plot::dir_;
 // a model's pruning at one radius, later that day: 188,458 triangles; 22 and 186,410 with stubs of
 // 6.5 radii.)
 TEST_F(LPine1Plot, ALimbOfAPineIsSweptOnce) {
-  ASSERT_TRUE(fs::exists(tree("011")));
-  const Result r = run("model " + quoted(tree("011")) + " -q -o " + quoted(dir.path("t.glb")) + " --report " + quoted(dir.path("r.json")));
-  ASSERT_EQ(r.code, 0) << r.out;
-  const auto mesh = read_json(dir.path("r.json"))["mesh"];
+  const auto mesh = model_mesh("011");
+  ASSERT_TRUE(mesh.is_object());
   EXPECT_LE(mesh["unions"].get<int>(), 30) << mesh.dump();
   EXPECT_LT(mesh["triangles"].get<int>(), 400000) << mesh.dump();
   EXPECT_EQ(mesh["pieces_failed"].get<int>(), 0) << mesh.dump();
@@ -212,13 +224,11 @@ TEST_F(LPine1Plot, ALimbOfAPineIsSweptOnce) {
 
 // No limb is left out for want of corefinements: the union's budget is one a piece where there are
 // more than 48 pieces. Tree 10 of the plot, pruned as a model prunes, had 138 limbs to unite and
-// needed 57 corefinements (56 now); under a flat budget of 48, 67 limbs were left out and the mesh held 37% of
-// the skeleton.
+// needed 57 corefinements (56 now); under a flat budget of 48, 67 limbs were left out and the mesh
+// held 37% of the skeleton.
 TEST_F(LPine1Plot, EveryLimbOfACrowdedPineIsUnited) {
-  ASSERT_TRUE(fs::exists(tree("010")));
-  const Result r = run("model " + quoted(tree("010")) + " -q -o " + quoted(dir.path("t.glb")) + " --report " + quoted(dir.path("r.json")));
-  ASSERT_EQ(r.code, 0) << r.out;
-  const auto mesh = read_json(dir.path("r.json"))["mesh"];
+  const auto mesh = model_mesh("010");
+  ASSERT_TRUE(mesh.is_object());
   EXPECT_GT(mesh["unions"].get<int>(), 48) << mesh.dump();
   EXPECT_EQ(mesh["pieces_failed"].get<int>(), 0) << mesh.dump();
   EXPECT_EQ(mesh["components"].get<int>(), 1) << mesh.dump();
