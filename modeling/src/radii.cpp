@@ -325,7 +325,7 @@ void fit_radii_once(Skeleton& skeleton, const PointCloud* cloud, const RadiusOpt
   // At a fork on the stem (from the root, at every fork the child that carries the most), no
   // child's estimate claims more than `max_share_over_pipe` times its pipe-model share (see
   // RadiusOptions): side branches whose fits take in their needles would otherwise starve the stem.
-  const bool bounded = cloud != nullptr && options.max_share_over_pipe > 0.0;
+  const bool bounded = options.max_share_over_pipe > 0.0;
   std::vector<bool> stem(t.chains.size(), false);
   auto bound_stem_fork = [&](std::vector<double>& estimate, const std::vector<double>& carries,
                              const std::vector<std::size_t>& chain_ids) {

@@ -229,6 +229,10 @@ TEST(Cli, ModelTurnsTheExampleIntoAGlbWithReportAndQsm) {
   ASSERT_EQ(again.code, 0) << again.out;
   EXPECT_TRUE(nlohmann::json::parse(again.out)["radii"]["from_stored_radii"].get<bool>());
   EXPECT_TRUE(fs::exists(dir.path("again.obj")));
+  // Outside --json the user is told the radii are the file's, not fitted to points.
+  const Result told = run("model skeleton.json -o again.stl", dir.root());
+  ASSERT_EQ(told.code, 0) << told.out;
+  EXPECT_NE(told.out.find("note: the radii are the skeleton file's"), std::string::npos) << told.out;
 }
 
 // AdTree's tree1 (bundled): forks whose joins leave no room for a limb. The mesh holds the whole

@@ -68,8 +68,10 @@ struct RadiusOptions {
   /// modelled with a stem 0.4 times as thick as its points, LPine1's pines with none above half
   /// their height, plantscan3d's A3B4 with a stem that thinned to nothing by 3 m (docs/models.md).
   /// Bounded at every fork, not the stem's alone, the crowns of broadleaved trees grew thicker than
-  /// their reference models. 0 leaves the shares unbounded. Only with a cloud: a skeleton's stored
-  /// radii are taken as they are. `treeskel model --stem-share-bound`.
+  /// their reference models. 0 leaves the shares unbounded. A saved skeleton's radii are bounded as
+  /// fits are: those `skeletonize` writes are the level sets' mean distances, which take in needles
+  /// as the fits do (TreeLS's pine from its saved skeleton: DBH 0.04 m unbounded, 0.19 m bounded).
+  /// `treeskel model --stem-share-bound`.
   double max_share_over_pipe = 4.0;
   /// At every fork, each child gets at least this share of what the pipe model gives it (its
   /// carried length over what all the children carry), whatever the circle fits of its siblings
