@@ -244,7 +244,8 @@ int main(int argc, char** argv) {
   std::vector<std::uint64_t> seeds{1, 2, 3};
   std::string out = "docs/accuracy.md", paper_csv = "bench/data/paper_tables.csv", pypetree;
   bool run_paper = true, run_hard = true;
-  double prune_radius = PruneOptions{}.radius_factor, band_factor = 1.0, cell_points = OctreeOptions{}.points_per_cell;
+  double prune_radius = PruneOptions{}.radius_factor, prune_bands = PruneOptions{}.min_bands, band_factor = 1.0,
+         cell_points = OctreeOptions{}.points_per_cell;
   std::size_t far_points = NeighbourGraphOptions{}.far_bridge_min_points;
   int extra_depth = OctreeOptions{}.max_extra_depth, deeper_reach = 0, depth_steps = OctreeOptions{}.depth_steps;
   for (int i = 1; i < argc; ++i) {
@@ -275,6 +276,8 @@ int main(int argc, char** argv) {
       deeper_reach = std::stoi(value());
     } else if (a == "--prune-radius") {
       prune_radius = std::stod(value());
+    } else if (a == "--prune-bands") {
+      prune_bands = std::stod(value());
     } else if (a == "--far-bridge-points") {
       far_points = std::stoull(value());
     } else if (a == "--sets") {
@@ -285,6 +288,7 @@ int main(int argc, char** argv) {
     } else {
       std::cout << "usage: bench_accuracy [--seeds 1,2,3] [--out FILE.md] [--paper paper_tables.csv] [--pypetree DIR] [--sets paper,hard]\n"
                    "                      [--prune-radius F  (treeskel's spur pruning factor, to try a value)]\n"
+                   "                      [--prune-bands F  (treeskel's shortest leaf branch kept, in bands)]\n"
                    "                      [--far-bridge-points N  (treeskel's smallest part joined across a long gap)]\n"
                    "                      [--band-factor F  (treeskel's band width as F times its default, 2 cells;\n"
                    "                                         the pruning length stays at the default band)]\n"
@@ -300,6 +304,7 @@ int main(int argc, char** argv) {
   }
   auto configs = configurations();
   configs.back().options.prune.radius_factor = prune_radius;
+  configs.back().options.prune.min_bands = prune_bands;
   configs.back().options.graph.far_bridge_min_points = far_points;
   configs.back().options.octree.max_extra_depth = extra_depth;
   configs.back().options.octree.points_per_cell = cell_points;

@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
       const PointCloud cloud = io::read_point_cloud(file);
       const double t1 = now();
       SkeletonOptions as_model;  // pruned as `treeskel model` prunes
-      as_model.prune.radius_factor = modeling::kModelPruneRadius;
+      modeling::use_model_pruning(as_model.prune);
       Skeleton s = extract_skeleton(cloud, as_model);
       const double t2 = now();
       modeling::fit_radii(s, &cloud);

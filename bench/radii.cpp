@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
   std::string pypetree, archi;
   modeling::RadiusOptions radius_options;
   SkeletonOptions skeleton_options;  // pruned as `treeskel model` prunes
-  skeleton_options.prune.radius_factor = modeling::kModelPruneRadius;
+  modeling::use_model_pruning(skeleton_options.prune);
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--seed" && i + 1 < argc) seed = std::stoull(argv[++i]);

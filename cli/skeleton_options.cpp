@@ -102,8 +102,12 @@ void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
       ->default_val(o.graph.small_cluster_fraction)->check(in_range(0.0, 1.0))->group(g);
   c.add_option("--band", o.level_sets.band_width, "Width of a level set band of geodesic distance (0: 2 cells)")
       ->default_val(o.level_sets.band_width)->check(not_negative())->group(g);
-  c.add_option("--prune-length", o.prune.min_length, "Remove leaf branches shorter than this (0: 1 band)")
+  c.add_option("--prune-length", o.prune.min_length, "Remove leaf branches shorter than this (0: --prune-bands bands)")
       ->default_val(o.prune.min_length)->check(not_negative())->group(g);
+  c.add_option("--prune-bands", o.prune.min_bands,
+               "With --prune-length 0, the shortest leaf branch kept in bands (skeletonize: 0.5, which the radius "
+               "rule implies anyway; a model: 1, leaving out short twigs that cost the mesh time; docs/models.md)")
+      ->default_val(o.prune.min_bands)->check(not_negative())->group(g);
   c.add_option("--prune-radius", o.prune.radius_factor,
                "... or that stay within this many radii of the branch they leave (skeletonize: 1.75; a model: 1, "
                "keeping more twigs for the mesh to show; docs/models.md)")
@@ -131,7 +135,7 @@ void check_skeleton_settings(const SkeletonSettings& s) {
   if (!s.root.empty()) parse_vector(s.root, "--root");
 }
 
-void use_model_defaults(SkeletonSettings& s) { s.options.prune.radius_factor = modeling::kModelPruneRadius; }
+void use_model_defaults(SkeletonSettings& s) { modeling::use_model_pruning(s.options.prune); }
 
 SkeletonOptions skeleton_options_for(const SkeletonSettings& s, const PointCloud& cloud) {
   SkeletonOptions o = s.options;

@@ -43,7 +43,7 @@ inline const char* leaves_option(const SkeletonSettings& s) { return s.wood_only
 /// Adds the method's options to `command`, in the group "Method".
 void add_skeleton_options(CLI::App& command, SkeletonSettings& settings);
 
-/// What a command that writes a model starts from: the model's pruning (modeling::kModelPruneRadius,
+/// What a command that writes a model starts from: the model's pruning (modeling::use_model_pruning,
 /// where skeletonize keeps the skeleton's). Call before add_skeleton_options, so that --help shows it
 /// and the command line still sets it.
 void use_model_defaults(SkeletonSettings& settings);

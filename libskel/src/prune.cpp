@@ -7,7 +7,7 @@
 namespace treeskel {
 
 double prune_length_for(const PruneOptions& options, double band_width) {
-  return options.min_length > 0.0 ? options.min_length : band_width;
+  return options.min_length > 0.0 ? options.min_length : options.min_bands * band_width;
 }
 
 std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const PruneOptions& options) {

@@ -97,11 +97,11 @@ void report(ProgressFn progress, const std::string& stage, double done, int begi
 }
 
 /// The skeleton of `cloud` with radii from the pipe model, reporting progress in [0, end] percent.
-/// `for_mesh`: pruned as `treeskel model` prunes (modeling::kModelPruneRadius), else as skeletonize.
+/// `for_mesh`: pruned as `treeskel model` prunes (modeling::use_model_pruning), else as skeletonize.
 Skeleton skeleton_of(const PointCloud& cloud, const SkeletonParams& sp, const ModelParams& mp, ProgressFn progress,
                      int end, bool for_mesh) {
   SkeletonOptions o = options_of(sp);
-  if (for_mesh) o.prune.radius_factor = modeling::kModelPruneRadius;
+  if (for_mesh) modeling::use_model_pruning(o.prune);
   const int skeleton_end = end * 9 / 10;
   if (progress) o.progress = [&](const std::string& stage, double done) { report(progress, stage, done, 0, skeleton_end); };
   SkeletonStats stats;
@@ -233,9 +233,11 @@ ModelParams default_model_params() {
   return p;
 }
 
-bool resolve_scales(const std::vector<double>& xyz, SkeletonParams& params, std::string& error) {
+bool resolve_scales(const std::vector<double>& xyz, SkeletonParams& params, std::string& error, bool for_mesh) {
   return guarded(error, [&] {
-    const SkeletonOptions o = automatic_options(cloud_of(xyz), options_of(params));
+    SkeletonOptions given = options_of(params);
+    if (for_mesh) modeling::use_model_pruning(given.prune);
+    const SkeletonOptions o = automatic_options(cloud_of(xyz), given);
     const int depth = params.octree_depth;
     skeleton_fields(params, o, to_params);
     params.octree_depth = depth;  // a cell size between two depths' is not a depth: 0 stays automatic

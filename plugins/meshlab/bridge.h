@@ -55,8 +55,10 @@ ModelParams default_model_params();
 /// Replaces the automatic (0) scales of `params` with the values the library uses on the cloud `xyz`
 /// (x0 y0 z0 x1 ...). The octree depth stays as it is: the library's cells can lie between two depths'
 /// sizes (`OctreeOptions::depth_steps`), which a depth alone does not say, and the scales are those of
-/// the cells depth 0 chooses. Returns false with `error` set when the cloud cannot be used.
-bool resolve_scales(const std::vector<double>& xyz, SkeletonParams& params, std::string& error);
+/// the cells depth 0 chooses. `for_mesh`: the scales of the mesh filter's skeleton, pruned as `treeskel
+/// model` prunes (its shortest branch a whole band, not half). Returns false with `error` set when the
+/// cloud cannot be used.
+bool resolve_scales(const std::vector<double>& xyz, SkeletonParams& params, std::string& error, bool for_mesh = false);
 
 /// What either filter hands back beside its layer: for MeshLab's log and a layer of leaves.
 struct LayerNotes {

@@ -34,10 +34,10 @@ RichAbsPerc distance(const char* name, double value, double limit, const char* l
 /// The method's parameters, with the library's defaults resolved for `cloud` when it can be used (so the
 /// dialog shows real distances); a 0 distance or depth means "automatic", which is what the bundled
 /// scripts hold so that they suit any cloud.
-void add_skeleton_parameters(const CMeshO& cloud, RichParameterList& list) {
+void add_skeleton_parameters(const CMeshO& cloud, RichParameterList& list, bool for_mesh) {
   bridge::SkeletonParams p = bridge::default_skeleton_params();
   std::string ignored;  // a cloud the method cannot use keeps the automatic zeros; applying it reports why
-  if (cloud.vn > 0) bridge::resolve_scales(points_of(cloud), p, ignored);
+  if (cloud.vn > 0) bridge::resolve_scales(points_of(cloud), p, ignored, for_mesh);
   const double diagonal = cloud.vn > 0 ? static_cast<double>(cloud.bbox.Diag()) : 1.0;
 
   list.addParam(RichEnum("upAxis", 0, up_axes, "Up axis",
@@ -51,7 +51,7 @@ void add_skeleton_parameters(const CMeshO& cloud, RichParameterList& list) {
                          "Width of a band of geodesic distance from the root; sets the spacing of skeleton "
                          "nodes. 0: two octree cells."));
   list.addParam(distance("pruneLength", p.prune_length, diagonal / 5, "Shortest branch kept",
-                         "Leaf branches shorter than this are removed as noise. 0: one band width."));
+                         "Leaf branches shorter than this are removed as noise. 0: half a band width for the skeleton, a whole one for the mesh."));
   list.addParam(RichBool("bridgeGaps", true, "Bridge occlusion gaps",
                          "Join parts of the cloud separated by small gaps (occlusion) into one tree."));
   list.addParam(distance("bridgeDistance", p.bridge_distance, diagonal / 5, "Longest gap bridged",
@@ -198,7 +198,7 @@ int FilterTreeskelPlugin::getRequirements(QAction*) { return MeshModel::MM_NONE;
 int FilterTreeskelPlugin::postCondition(QAction*) const { return MeshModel::MM_NONE; }
 
 void FilterTreeskelPlugin::initParameterSet(QAction* action, MeshModel& model, RichParameterList& list) {
-  add_skeleton_parameters(model.cm, list);
+  add_skeleton_parameters(model.cm, list, ID(action) == FP_TREE_MESH);
   add_radius_parameters(list);
   if (ID(action) == FP_TREE_MESH) add_mesh_parameters(model.cm, list);
 }

@@ -90,7 +90,10 @@ TEST(MeshlabBridge, ResolvedScalesAreTheLibrarysAndGiveTheSameSkeleton) {
   ASSERT_TRUE(resolve_scales(xyz, resolved, error)) << error;
   EXPECT_EQ(resolved.octree_depth, 0);  // automatic: the cells may lie between two depths' sizes
   EXPECT_GT(resolved.band_width, 0.0);
-  EXPECT_EQ(resolved.prune_length, resolved.band_width);
+  EXPECT_EQ(resolved.prune_length, 0.5 * resolved.band_width);  // skeletonize's shortest branch
+  SkeletonParams for_mesh = default_skeleton_params();
+  ASSERT_TRUE(resolve_scales(xyz, for_mesh, error, true)) << error;
+  EXPECT_EQ(for_mesh.prune_length, for_mesh.band_width);  // a model's
   EXPECT_DOUBLE_EQ(resolved.bridge_distance, 2.0 * resolved.band_width);
 
   const ModelParams model = default_model_params();
@@ -172,7 +175,7 @@ TEST(MeshlabBridge, MeshLayerIsClosedAndOriented) {
   EXPECT_NE(layer.summary.find("closed, manifold, no self-intersection"), std::string::npos);
 }
 
-// The mesh filter's skeleton is pruned as `treeskel model` prunes (modeling::kModelPruneRadius), the
+// The mesh filter's skeleton is pruned as `treeskel model` prunes (modeling::use_model_pruning), the
 // skeleton filter's as `skeletonize` does: the mesh is the library's model of the skeleton pruned at
 // one radius, which has more nodes than the skeleton filter's layer.
 TEST(MeshlabBridge, MeshFilterPrunesAsTheModelCommand) {
@@ -185,7 +188,7 @@ TEST(MeshlabBridge, MeshFilterPrunesAsTheModelCommand) {
 
   const PointCloud cloud = io::read_point_cloud(test::data_file("tree_adtree1.xyz"));
   SkeletonOptions as_model;
-  as_model.prune.radius_factor = modeling::kModelPruneRadius;
+  modeling::use_model_pruning(as_model.prune);
   SkeletonStats stats;
   Skeleton skeleton = extract_skeleton(cloud, as_model, &stats);
   EXPECT_GT(skeleton.node_count(), skeleton_layer.radius.size());

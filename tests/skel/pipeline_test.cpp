@@ -134,7 +134,7 @@ TEST_P(RealClouds, AutomaticOptionsSpellOutTheDefaultsAndGiveTheSameSkeleton) {
   EXPECT_EQ(o.octree.depth, stats.octree_depth);
   EXPECT_DOUBLE_EQ(o.level_sets.band_width, stats.band_width);
   EXPECT_DOUBLE_EQ(o.level_sets.band_width, 2.0 * stats.cell_size);
-  EXPECT_DOUBLE_EQ(o.prune.min_length, o.level_sets.band_width);
+  EXPECT_DOUBLE_EQ(o.prune.min_length, 0.5 * o.level_sets.band_width);
   EXPECT_DOUBLE_EQ(o.graph.bridge_distance, 4.0 * stats.cell_size);
   EXPECT_DOUBLE_EQ(o.root.slice, 2.0 * stats.cell_size);
   EXPECT_TRUE(same_skeleton(by_default, extract_skeleton(c, o), 0.0));
@@ -144,7 +144,7 @@ TEST_P(RealClouds, AutomaticOptionsSpellOutTheDefaultsAndGiveTheSameSkeleton) {
   mine.graph.bridge_distance = -1.0;
   const SkeletonOptions kept = automatic_options(c, mine);
   EXPECT_EQ(kept.level_sets.band_width, 0.123);
-  EXPECT_EQ(kept.prune.min_length, 0.123);
+  EXPECT_EQ(kept.prune.min_length, 0.5 * 0.123);
   EXPECT_EQ(kept.graph.bridge_distance, -1.0);
 }
 

@@ -36,6 +36,25 @@ TEST(Prune, RemovesShortSpursAndKeepsTheirPoints) {
   EXPECT_EQ(s[3].points, (std::vector<std::uint32_t>{3, 8}));
 }
 
+// A twig of 0.7 bands straight out of its branch (beyond the radius rule's 1.75 radii plus half a
+// band) is kept by default: the shortest branch kept is half a band. A whole band took it.
+TEST(Prune, ATwigHalfABandLongOrMoreIsKeptByDefault) {
+  Skeleton s;
+  for (int i = 0; i < 5; ++i) node(s, 0, 0, i, i);
+  node(s, 0.7, 0, 3, 5);
+  for (int i = 0; i < 4; ++i) boost::add_edge(i, i + 1, s.graph);
+  boost::add_edge(3, 5, s.graph);
+  EXPECT_DOUBLE_EQ(prune_length_for(PruneOptions{}, 1.0), 0.5);
+  Skeleton kept = s;
+  EXPECT_EQ(prune_short_branches(kept, 1.0), 0u);
+  EXPECT_EQ(count_branch_points(kept.graph), 1u);
+  PruneOptions whole_band;
+  whole_band.min_length = 1.0;
+  EXPECT_EQ(prune_short_branches(s, 1.0, whole_band), 1u);
+  EXPECT_EQ(count_branch_points(s.graph), 0u);
+  EXPECT_EQ(validate(s, 6), "");
+}
+
 TEST(Prune, KeepsTheLongestWhenEveryChildIsShort) {
   Skeleton s;
   node(s, 0, 0, 0, 0);
