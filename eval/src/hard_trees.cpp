@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <random>
 
 namespace treeskel::eval {
@@ -86,13 +88,60 @@ GroundTruth cut_to_scan(const GroundTruth& truth, const PointCloud& cloud, const
   std::vector<int> children(n, 0);
   for (NodeId v = 0; v < n; ++v)
     if (v != s.root) ++children[parent[v]];
+  std::vector<char> forks(n, 0);  // in the truth as it was given
+  for (NodeId v = 0; v < n; ++v) forks[v] = children[v] > 1;
   const Eigen::Vector3d shift = s.offset - cloud.offset;  // a node's position in the cloud's frame
+  // With own_points: the points of each edge (named by its child node), each point given to the
+  // edge whose tube surface lies nearest.
+  std::vector<std::vector<std::uint32_t>> owned(n);
+  if (options.own_points && n > 1) {
+    // Each edge's midpoint and the farthest its surface reaches from it: a lower bound of a point's
+    // distance to the surface skips most edges.
+    std::vector<Eigen::Vector3d> mid(n);
+    std::vector<double> extent(n, 0.0);
+    for (NodeId c = 0; c < n; ++c) {
+      if (c == s.root) continue;
+      mid[c] = 0.5 * (s[parent[c]].position + s[c].position) + shift;
+      extent[c] = 0.5 * (s[c].position - s[parent[c]].position).norm() + std::max(s[c].radius, s[parent[c]].radius);
+    }
+    NodeId last = s.root;
+    for (std::uint32_t i = 0; i < cloud.size(); ++i) {
+      const Eigen::Vector3d& p = cloud.positions[i];
+      double best = std::numeric_limits<double>::infinity();
+      NodeId owner = s.root;
+      const auto outside_edge = [&](NodeId c) {
+        const Eigen::Vector3d a = s[parent[c]].position + shift, b = s[c].position + shift;
+        const Eigen::Vector3d d = b - a;
+        const double length2 = d.squaredNorm();
+        const double u = length2 > 0.0 ? std::clamp((p - a).dot(d) / length2, 0.0, 1.0) : 0.0;
+        return (p - (a + u * d)).norm() - ((1.0 - u) * s[parent[c]].radius + u * s[c].radius);
+      };
+      if (last != s.root) best = outside_edge(last), owner = last;  // the previous point's edge first
+      for (NodeId c = 0; c < n; ++c) {
+        if (c == s.root || c == last || (p - mid[c]).norm() - extent[c] >= best) continue;
+        if (const double outside = outside_edge(c); outside < best) best = outside, owner = c;
+      }
+      last = owner;
+      if (owner != s.root) owned[owner].push_back(i);
+    }
+  }
   const auto seen = [&](NodeId v) {
     const double reach = s[v].radius + options.reach, reach2 = reach * reach;
     const Eigen::Vector3d at = s[v].position + shift;
     int found = 0;
-    for (const auto& p : cloud.positions)
-      if ((p - at).squaredNorm() <= reach2 && ++found >= options.min_points) return true;
+    if (!options.own_points) {
+      for (const auto& p : cloud.positions)
+        if ((p - at).squaredNorm() <= reach2 && ++found >= options.min_points) return true;
+      return false;
+    }
+    // The edges from `v` down its own branch, up to the fork it leaves, while they start within reach
+    // of it (past the fork, the points are the parent branch's).
+    for (NodeId u = v; u != s.root; u = parent[u]) {
+      for (auto i : owned[u])
+        if ((cloud.positions[i] - at).squaredNorm() <= reach2 && ++found >= options.min_points) return true;
+      const NodeId below = parent[u];
+      if (below == s.root || forks[below] || (s[below].position - s[v].position).norm() > reach) break;
+    }
     return false;
   };
   std::vector<char> removed(n, 0);
@@ -119,7 +168,7 @@ GroundTruth cut_to_scan(const GroundTruth& truth, const PointCloud& cloud, const
   return cut;
 }
 
-std::vector<HardCloud> make_sparse_clouds(std::uint64_t seed) {
+std::vector<HardCloud> make_sparse_clouds(std::uint64_t seed, const CutOptions& cut) {
   std::vector<HardCloud> clouds;
   const int sizes[] = {60, 130, 230};
   for (int b : sizes) {
@@ -140,7 +189,7 @@ std::vector<HardCloud> make_sparse_clouds(std::uint64_t seed) {
         clouds.push_back({"sparse" + std::to_string(b) + "_" + std::to_string(scanners) + "view" +
                               (scanners > 1 ? "s" : "") + "_" + std::to_string(cloud.size()),
                           density == 0 ? "sparse scans, 2,000-3,000 points" : "sparse scans, 4,000-6,200 points",
-                          cut_to_scan(truth, cloud), std::move(cloud)});
+                          cut_to_scan(truth, cloud, cut), std::move(cloud)});
       }
   }
   return clouds;
@@ -183,10 +232,10 @@ std::vector<HardCloud> make_combined_clouds(std::uint64_t seed) {
   return clouds;
 }
 
-std::vector<HardCloud> make_hard_clouds(std::uint64_t seed) {
+std::vector<HardCloud> make_hard_clouds(std::uint64_t seed, const CutOptions& cut) {
   std::vector<HardCloud> clouds = make_crowded_clouds(seed);
-  for (auto make : {make_sparse_clouds, make_combined_clouds})
-    for (auto& c : make(seed)) clouds.push_back(std::move(c));
+  for (auto& c : make_sparse_clouds(seed, cut)) clouds.push_back(std::move(c));
+  for (auto& c : make_combined_clouds(seed)) clouds.push_back(std::move(c));
   return clouds;
 }
 

@@ -106,8 +106,9 @@ TEST(HardTrees, AScannerSeesNothingInTheShadowOfATrunkBeforeIt) {
                OptionError);
 }
 
-/// A fork: trunk from the origin up 0.1, two branches of 0.1, nodes every 0.01.
-GroundTruth fork() {
+/// A fork: trunk from the origin up 0.1, two branches of ten steps (+x, and `second` each step), nodes
+/// every 0.01 along the first.
+GroundTruth fork(const Eigen::Vector3d& second = {-0.01, 0, 0}) {
   GroundTruth t;
   Skeleton& s = t.skeleton;
   auto line = [&](NodeId from, const Eigen::Vector3d& start, const Eigen::Vector3d& step) {
@@ -127,7 +128,7 @@ GroundTruth fork() {
   s.root = add_node(s, root);
   const NodeId top = line(s.root, {0, 0, 0}, {0, 0, 0.01});
   line(top, {0, 0, 0.1}, {0.01, 0, 0});
-  line(top, {0, 0, 0.1}, {-0.01, 0, 0});
+  line(top, {0, 0, 0.1}, second);
   return t;
 }
 
@@ -156,6 +157,28 @@ TEST(HardTrees, CutToScanTrimsTipsTheScanDoesNotReach) {
   const GroundTruth trunk = cut_to_scan(t, cloud, {0.0, 2});
   EXPECT_EQ(trunk.skeleton.node_count(), 11u);
   EXPECT_EQ(count_branch_points(trunk.skeleton.graph), 0u);
+}
+
+// Two twigs side by side, 1.5 cm apart at their tips, and a scan of the trunk and one of them: the
+// other has no point of its own. Its neighbour's points lie within its radius + 2 cm, which "saw" it
+// when any point counted; counting its own, it is cut away and the fork with it.
+TEST(HardTrees, CutToScanCountsABranchsOwnPoints) {
+  const GroundTruth t = fork({0.01, 0, 0.0015});
+  PointCloud cloud;
+  for (int k = 0; k <= 100; ++k) cloud.positions.emplace_back(0.0, 0.001, 0.001 * k);  // the trunk
+  for (int k = 0; k <= 100; ++k) cloud.positions.emplace_back(0.001 * k, 0.001, 0.1);  // the +x twig
+  const GroundTruth own = cut_to_scan(t, cloud);
+  EXPECT_TRUE(is_tree(own.skeleton.graph));
+  EXPECT_EQ(own.skeleton.node_count(), 21u);
+  EXPECT_EQ(count_branch_points(own.skeleton.graph), 0u);
+  CutOptions any;
+  any.own_points = false;
+  const GroundTruth near = cut_to_scan(t, cloud, any);
+  EXPECT_EQ(near.skeleton.node_count(), 31u);
+  EXPECT_EQ(count_branch_points(near.skeleton.graph), 1u);
+  // The points of both twigs: both stay.
+  for (int k = 1; k <= 100; ++k) cloud.positions.emplace_back(0.001 * k, -0.001, 0.1 + 0.00015 * k);
+  EXPECT_EQ(count_branch_points(cut_to_scan(t, cloud).skeleton.graph), 1u);
 }
 
 TEST(HardTrees, SparseScansAreSmallAndTheirTruthIsWhatTheyShow) {

@@ -18,10 +18,12 @@ struct PruneOptions {
   /// The shortest leaf branch kept when `min_length` is 0, in band widths. Half a band (default) is
   /// what the radius rule below implies anyway (a leaf reaches no farther from its branch than its
   /// length): the reach decides. A whole band took twigs of sparse scans whose last band component
-  /// alone stands apart from the branch they leave; with half, those scans' BPC / EPC rose by 0.02
-  /// (2,000-3,000 points: 0.559 / 0.506 → 0.579 / 0.521; 4,000-6,200: 0.776 / 0.731 → 0.798 / 0.750,
-  /// precision as it was), and the 72 clouds and the crowded crowns moved by at most 0.003
-  /// (docs/accuracy.md). A model keeps a whole band (`modeling::use_model_pruning`).
+  /// alone stands apart from the branch they leave; with half, those scans' BPC / EPC rose by
+  /// 0.013-0.023 and their precisions fell by 0.002-0.009 (three seeds: 2,000-3,000 points 0.667 /
+  /// 0.656 → 0.683 / 0.669, precision 0.755 / 0.821 → 0.747 / 0.812; 4,000-6,200 points 0.833 / 0.805
+  /// → 0.856 / 0.824, 0.773 / 0.860 → 0.771 / 0.856), and the 72 clouds and the crowded crowns moved
+  /// by at most 0.003 (docs/accuracy.md; `bench_accuracy --prune-bands 1` for the whole band). A
+  /// model keeps a whole band (`modeling::use_model_pruning`).
   double min_bands = 0.5;
   /// ... or one whose nodes all stay within this many radii (plus half a band) of the branch it
   /// leaves: the axis through a few nodes below the fork and along its other children, whose median
