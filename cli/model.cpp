@@ -101,7 +101,8 @@ int run(Settings& s) {
       // The level sets' radii are mean distances to a node, not circles fitted to the bark: on
       // AdTree's samples the wood volume came out at 0.13-0.76 of the cloud's own model's.
       std::cerr << "note: the radii are the skeleton file's (from `skeletonize`: the level sets' estimates); "
-                   "`model` on the cloud fits them to its points (docs/models.md, \"Other ways in\")\n";
+                   "`model CLOUD --skeleton FILE` saves a skeleton with radii fitted to the points (docs/models.md, "
+                   "\"Other ways in\")\n";
     }
   } else {
     cloud = io::read_point_cloud(s.input);
