@@ -422,9 +422,11 @@ int main(int argc, char** argv) {
           "first, are then joined to the tree.\n"
        << "4. **CPC guarded** (`cpc.h`): moves only across the branch, only onto a cylinder-like slice.\n"
        << "5. **Spur pruning** (`prune.h`, a leaf branch that stays within " << PruneOptions{}.radius_factor
-       << " radii of its host goes) and **fork placement** (`junction.h`): they trade a little recall for much "
-          "precision (compare the last two rows): without them a large share of the predicted branch points "
-          "are spurious, which BPC and EPC, being recall only, do not show.\n"
+       << " radii of its host goes; and where two forks lie within " << PruneOptions{}.close_forks
+       << " bands of each other along the skeleton, a leaf arm of at most " << PruneOptions{}.close_fork_leaf
+       << " bands at one of them, which made one true fork two) and **fork placement** (`junction.h`): they "
+          "trade a little recall for much precision (compare the last two rows): without them a large share of "
+          "the predicted branch points are spurious, which BPC and EPC, being recall only, do not show.\n"
        << "6. **Cell sizes between two depths** (`OctreeOptions::depth_steps`, default "
        << OctreeOptions{}.depth_steps << ", for clouds of up to " << OctreeOptions{}.depth_steps_max_points
        << " points) and **sparse cells reaching two cells** (`NeighbourGraphOptions::sparse_occupancy`): the "

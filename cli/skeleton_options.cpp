@@ -108,6 +108,11 @@ void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
                "With --prune-length 0, the shortest leaf branch kept in bands (skeletonize: 0.5, which the radius "
                "rule implies anyway; a model: 1, leaving out short twigs that cost the mesh time; docs/models.md)")
       ->default_val(o.prune.min_bands)->check(not_negative())->group(g);
+  c.add_option("--close-forks", o.prune.close_forks,
+               "At a fork this many bands or less from another along the skeleton, remove its shortest leaf arm "
+               "of at most 3 bands: one true fork the level sets made two (skeletonize: 1.5; a model: 0, off, "
+               "keeping those twigs for the mesh; docs/accuracy.md)")
+      ->default_val(o.prune.close_forks)->check(not_negative())->group(g);
   c.add_option("--prune-radius", o.prune.radius_factor,
                "... or that stay within this many radii of the branch they leave (skeletonize: 1.75; a model: 1, "
                "keeping more twigs for the mesh to show; docs/models.md)")

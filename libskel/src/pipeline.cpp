@@ -171,6 +171,7 @@ Skeleton skeleton_from_cells(const PointCloud& cloud, const OctreeCells& cells, 
     clock.start("fork placement", 0.9);
     stats.forks_moved = relocate_forks(skeleton, stats.band_width, options.junctions);
   }
+  if (options.use_prune) stats.pruned_branches += prune_spurs_at_close_forks(skeleton, stats.band_width, options.prune);
   if (options.use_smooth) {
     clock.start("smoothing", 0.95);
     skeleton = smooth_skeleton(std::move(skeleton), options.smooth);

@@ -123,4 +123,57 @@ std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const Pr
   return removed_total;
 }
 
+std::size_t prune_spurs_at_close_forks(Skeleton& skeleton, double band_width, const PruneOptions& options) {
+  if (!(options.close_forks > 0.0)) return 0;
+  auto& g = skeleton.graph;
+  const std::size_t n = boost::num_vertices(g);
+  std::vector<bool> keep(n, true);
+  std::size_t removed = 0;
+  // An arm: the nodes from a fork's neighbour along the chain to the next node that is not on a
+  // chain (a tip or a fork), and its length from the fork.
+  struct Arm {
+    double length = 0.0;
+    NodeId end;
+    std::vector<NodeId> nodes;
+  };
+  auto walk = [&](NodeId fork, NodeId first) {
+    Arm arm{(g[first].position - g[fork].position).norm(), first, {first}};
+    NodeId previous = fork;
+    while (boost::degree(arm.end, g) == 2) {
+      const auto neighbours = boost::adjacent_vertices(arm.end, g);
+      const NodeId next = *neighbours.first == previous ? *std::next(neighbours.first) : *neighbours.first;
+      arm.length += (g[next].position - g[arm.end].position).norm();
+      previous = arm.end;
+      arm.end = next;
+      arm.nodes.push_back(next);
+    }
+    return arm;
+  };
+  for (NodeId fork = 0; fork < n; ++fork) {
+    if (!keep[fork] || boost::degree(fork, g) < 3) continue;
+    std::vector<Arm> arms;
+    for (auto [a, end] = boost::adjacent_vertices(fork, g); a != end; ++a) arms.push_back(walk(fork, *a));
+    const bool near = std::any_of(arms.begin(), arms.end(), [&](const Arm& arm) {
+      return boost::degree(arm.end, g) >= 3 && arm.length <= options.close_forks * band_width;
+    });
+    if (!near) continue;
+    const Arm* shortest = nullptr;
+    for (const Arm& arm : arms)
+      if (boost::degree(arm.end, g) == 1 && arm.end != skeleton.root &&
+          arm.length <= options.close_fork_leaf * band_width && (!shortest || arm.length < shortest->length))
+        shortest = &arm;
+    if (!shortest) continue;
+    auto& pts = g[fork].points;
+    for (NodeId u : shortest->nodes) {
+      pts.insert(pts.end(), g[u].points.begin(), g[u].points.end());
+      keep[u] = false;
+    }
+    std::sort(pts.begin(), pts.end());
+    for (NodeId u : shortest->nodes) boost::clear_vertex(u, g);
+    ++removed;
+  }
+  if (removed > 0) compact_nodes(skeleton, keep);
+  return removed;
+}
+
 }  // namespace treeskel

@@ -51,7 +51,7 @@ def test_model_equals_the_commands(exe, data, tmp_path):
     assert mesh.faces.max() < len(mesh.vertices)
     # The stages one at a time give the same as model(), the skeleton pruned as a model prunes.
     fitted = treeskel.fit_radii(
-        treeskel.extract_skeleton(treeskel.read_cloud(str(data / "tree_rtwig.txt")), prune_radius=1, prune_bands=1), exponent=2.2)
+        treeskel.extract_skeleton(treeskel.read_cloud(str(data / "tree_rtwig.txt")), prune_radius=1, prune_bands=1, close_forks=0), exponent=2.2)
     again = treeskel.tree_mesh(fitted, local=True)
     assert np.array_equal(again.faces, mesh.faces) and np.array_equal(again.vertices, mesh.vertices)
     assert np.array_equal(skeleton.radii, fitted.radii) and np.array_equal(skeleton.positions, fitted.positions)
@@ -114,11 +114,11 @@ def test_complete_equals_the_commands(exe, data, tmp_path):
     mesh.save(str(tmp_path / "py.ply"), local=True)
     run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", "--complete", "-q")
     assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
-    plain = treeskel.fit_radii(treeskel.extract_skeleton(cloud, prune_radius=1, prune_bands=1))
+    plain = treeskel.fit_radii(treeskel.extract_skeleton(cloud, prune_radius=1, prune_bands=1, close_forks=0))
     assert len(skeleton) > len(plain)  # the grown branches
-    assert len(treeskel.fit_radii(treeskel.extract_skeleton(cloud, prune_radius=1, prune_bands=1), complete=True)) == len(skeleton)
+    assert len(treeskel.fit_radii(treeskel.extract_skeleton(cloud, prune_radius=1, prune_bands=1, close_forks=0), complete=True)) == len(skeleton)
     # extract_skeleton prunes as skeletonize does, more than a model: fewer nodes.
-    assert len(treeskel.extract_skeleton(cloud)) < len(treeskel.extract_skeleton(cloud, prune_radius=1, prune_bands=1))
+    assert len(treeskel.extract_skeleton(cloud)) < len(treeskel.extract_skeleton(cloud, prune_radius=1, prune_bands=1, close_forks=0))
 
 
 def test_bad_input_raises_value_error_with_the_message(tmp_path):

@@ -55,6 +55,49 @@ TEST(Prune, ATwigHalfABandLongOrMoreIsKeptByDefault) {
   EXPECT_EQ(validate(s, 6), "");
 }
 
+// Two forks a band apart where the tree has one: the second's spur (2.2 bands) goes by default, and
+// its points go to the fork; the arms longer than 3 bands stay. Off (a model's), or with the forks
+// farther apart than the setting, the spur stays.
+TEST(Prune, ASpurAtAForkCloseToAnotherGoes) {
+  auto build = [] {
+    Skeleton s;
+    for (int i = 0; i < 4; ++i) node(s, 0, 0, i, i);  // trunk 0-3; fork A = 3
+    for (int i = 1; i <= 4; ++i) node(s, i, 0, 3 + 0.5 * i, 3 + i);  // 4-7: a long arm from A
+    node(s, 0, 0, 4, 8);  // fork B, one band above A
+    for (int i = 1; i <= 4; ++i) node(s, 0, 0, 4 + i, 8 + i);  // 9-12: a long arm from B
+    node(s, -1, 0, 4.5, 13);  // 13-14: the spur from B
+    node(s, -2, 0, 5, 14);
+    for (int i = 0; i < 3; ++i) boost::add_edge(i, i + 1, s.graph);
+    boost::add_edge(3, 4, s.graph);
+    for (int i = 4; i < 7; ++i) boost::add_edge(i, i + 1, s.graph);
+    boost::add_edge(3, 8, s.graph);
+    boost::add_edge(8, 9, s.graph);
+    for (int i = 9; i < 12; ++i) boost::add_edge(i, i + 1, s.graph);
+    boost::add_edge(8, 13, s.graph);
+    boost::add_edge(13, 14, s.graph);
+    return s;
+  };
+  Skeleton s = build();
+  ASSERT_EQ(count_branch_points(s.graph), 2u);
+  EXPECT_EQ(PruneOptions{}.close_forks, 1.5);
+  EXPECT_EQ(prune_spurs_at_close_forks(s, 1.0), 1u);
+  EXPECT_EQ(count_branch_points(s.graph), 1u);
+  EXPECT_EQ(s.node_count(), 13u);
+  EXPECT_EQ(validate(s, 15), "");
+  EXPECT_EQ(s[8].points, (std::vector<std::uint32_t>{8, 13, 14}));
+  PruneOptions off;
+  off.close_forks = 0.0;
+  Skeleton kept = build();
+  EXPECT_EQ(prune_spurs_at_close_forks(kept, 1.0, off), 0u);
+  PruneOptions near;
+  near.close_forks = 0.9;  // the forks are a band apart
+  EXPECT_EQ(prune_spurs_at_close_forks(kept, 1.0, near), 0u);
+  PruneOptions short_spurs;
+  short_spurs.close_fork_leaf = 2.0;  // the spur is 2.2 bands long
+  EXPECT_EQ(prune_spurs_at_close_forks(kept, 1.0, short_spurs), 0u);
+  EXPECT_EQ(count_branch_points(kept.graph), 2u);
+}
+
 TEST(Prune, KeepsTheLongestWhenEveryChildIsShort) {
   Skeleton s;
   node(s, 0, 0, 0, 0);

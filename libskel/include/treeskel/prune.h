@@ -30,6 +30,17 @@ struct PruneOptions {
   /// radius is the host radius.
   double radius_factor = 1.75;
   int host_nodes = 4;  ///< nodes of each neighbouring chain that define the host branch
+  /// Forks this many bands or less apart along the skeleton are a close pair, and the level sets'
+  /// making more often than the tree's: where one true fork's branches leave a band or two apart, a
+  /// spur beside them made it two (on seed 1's sparse scans and every-degradation clouds, most of
+  /// the predicted forks no true one matched lay within τ of a true fork another had matched, a
+  /// median 0.016-0.021 along the skeleton from the next predicted fork; 90% of the true forks lie
+  /// 0.046 or more from the next). At a close pair, a fork's shortest leaf arm no longer than `close_fork_leaf` bands
+  /// goes, its points to the fork (`prune_spurs_at_close_forks`, after fork placement). 0: off (a
+  /// model's, `modeling::use_model_pruning`: the mesh keeps those twigs). Measured in
+  /// docs/accuracy.md and the README ("Spurs at close forks").
+  double close_forks = 1.5;
+  double close_fork_leaf = 3.0;  ///< the longest leaf arm removed at a close pair, in bands
 };
 
 /// The shortest leaf branch `options` keep: `min_length`, or `min_bands` times `band_width` when it is 0.
@@ -39,5 +50,10 @@ double prune_length_for(const PruneOptions& options, double band_width);
 /// stays (it is the continuation of the branch). Returns the number of branches removed.
 /// @param[in] band_width  the level sets' band width, which scales the default `min_length`
 std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const PruneOptions& options = {});
+
+/// At every fork within `options.close_forks` bands of another (see PruneOptions), in node order,
+/// removes its shortest leaf arm if it is at most `close_fork_leaf` bands long; the arm's points go to
+/// the fork. Returns the number of arms removed.
+std::size_t prune_spurs_at_close_forks(Skeleton& skeleton, double band_width, const PruneOptions& options = {});
 
 }  // namespace treeskel

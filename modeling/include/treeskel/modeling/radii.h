@@ -49,10 +49,13 @@ inline constexpr double kModelPruneRadius = 1.0;
 /// within 1% of its height (docs/models.md).
 inline constexpr double kModelPruneBands = 1.0;
 
-/// Sets `prune` to how a model's skeleton is pruned: `kModelPruneRadius` and `kModelPruneBands`.
+/// Sets `prune` to how a model's skeleton is pruned: `kModelPruneRadius`, `kModelPruneBands`, and
+/// no spurs removed at close forks (`PruneOptions::close_forks` 0: a short twig beside a fork is
+/// wood the mesh shows, whether or not the fork is the level sets' doubling of one).
 inline void use_model_pruning(PruneOptions& prune) {
   prune.radius_factor = kModelPruneRadius;
   prune.min_bands = kModelPruneBands;
+  prune.close_forks = 0.0;
 }
 
 struct RadiusOptions {
