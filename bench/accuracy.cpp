@@ -248,7 +248,8 @@ int main(int argc, char** argv) {
   std::string out = "docs/accuracy.md", paper_csv = "bench/data/paper_tables.csv", pypetree;
   bool run_paper = true, run_hard = true;
   eval::CutOptions cut;
-  double prune_radius = PruneOptions{}.radius_factor, prune_bands = PruneOptions{}.min_bands, band_factor = 1.0,
+  double prune_radius = PruneOptions{}.radius_factor, prune_bands = PruneOptions{}.min_bands,
+         close_fork_bands = PruneOptions{}.close_forks, band_factor = 1.0,
          cell_points = OctreeOptions{}.points_per_cell;
   std::size_t far_points = NeighbourGraphOptions{}.far_bridge_min_points;
   int extra_depth = OctreeOptions{}.max_extra_depth, deeper_reach = 0, depth_steps = OctreeOptions{}.depth_steps;
@@ -280,6 +281,8 @@ int main(int argc, char** argv) {
       deeper_reach = std::stoi(value());
     } else if (a == "--prune-radius") {
       prune_radius = std::stod(value());
+    } else if (a == "--close-forks") {
+      close_fork_bands = std::stod(value());
     } else if (a == "--cut-any-points") {
       cut.own_points = false;
     } else if (a == "--prune-bands") {
@@ -295,6 +298,7 @@ int main(int argc, char** argv) {
       std::cout << "usage: bench_accuracy [--seeds 1,2,3] [--out FILE.md] [--paper paper_tables.csv] [--pypetree DIR] [--sets paper,hard]\n"
                    "                      [--prune-radius F  (treeskel's spur pruning factor, to try a value)]\n"
                    "                      [--prune-bands F  (treeskel's shortest leaf branch kept, in bands)]\n"
+                   "                      [--close-forks F  (treeskel's spurs at forks within F bands of another; 0: off)]\n"
                    "                      [--cut-any-points  (the sparse scans' truth cut by any points near a\n"
                    "                                          tip, not the branch's own: the rule before 6 December 2026)]\n"
                    "                      [--far-bridge-points N  (treeskel's smallest part joined across a long gap)]\n"
@@ -313,6 +317,7 @@ int main(int argc, char** argv) {
   auto configs = configurations();
   configs.back().options.prune.radius_factor = prune_radius;
   configs.back().options.prune.min_bands = prune_bands;
+  configs.back().options.prune.close_forks = close_fork_bands;
   configs.back().options.graph.far_bridge_min_points = far_points;
   configs.back().options.octree.max_extra_depth = extra_depth;
   configs.back().options.octree.points_per_cell = cell_points;
