@@ -1,6 +1,7 @@
 #include "treeskel/eval/hard_trees.h"
 
 #include "treeskel/error.h"
+#include "treeskel/geometry.h"
 
 #include <Eigen/Geometry>
 
@@ -104,23 +105,19 @@ GroundTruth cut_to_scan(const GroundTruth& truth, const PointCloud& cloud, const
       mid[c] = 0.5 * (s[parent[c]].position + s[c].position) + shift;
       extent[c] = 0.5 * (s[c].position - s[parent[c]].position).norm() + std::max(s[c].radius, s[parent[c]].radius);
     }
-    // How far `p` lies outside the tube of edge `c` (negative inside).
-    const auto outside_edge = [&](const Eigen::Vector3d& p, NodeId c) {
-      const Eigen::Vector3d a = s[parent[c]].position + shift, b = s[c].position + shift;
-      const Eigen::Vector3d d = b - a;
-      const double length2 = d.squaredNorm();
-      const double u = length2 > 0.0 ? std::clamp((p - a).dot(d) / length2, 0.0, 1.0) : 0.0;
-      return (p - (a + u * d)).norm() - ((1.0 - u) * s[parent[c]].radius + u * s[c].radius);
-    };
     NodeId last = s.root;
     for (std::uint32_t i = 0; i < cloud.size(); ++i) {
       const Eigen::Vector3d& p = cloud.positions[i];
+      // How far `p` lies outside the tube of edge `c` (its nodes moved to the cloud's frame).
+      const auto outside = [&](NodeId c) {
+        return outside_tube(p, s[parent[c]].position + shift, s[c].position + shift, s[parent[c]].radius, s[c].radius);
+      };
       double best = std::numeric_limits<double>::infinity();
       NodeId owner = s.root;
-      if (last != s.root) best = outside_edge(p, last), owner = last;  // the previous point's edge first
+      if (last != s.root) best = outside(last), owner = last;  // the previous point's edge first
       for (NodeId c = 0; c < n; ++c) {
         if (c == s.root || c == last || (p - mid[c]).norm() - extent[c] >= best) continue;
-        if (const double outside = outside_edge(p, c); outside < best) best = outside, owner = c;
+        if (const double d = outside(c); d < best) best = d, owner = c;
       }
       last = owner;
       if (owner != s.root) owned[owner].push_back(i);

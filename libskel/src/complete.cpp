@@ -2,6 +2,7 @@
 
 #include "treeskel/disjoint_sets.h"
 #include "treeskel/error.h"
+#include "treeskel/geometry.h"
 #include "treeskel/kd_search.h"
 #include "treeskel/l1_median.h"
 #include "treeskel/level_sets.h"
@@ -23,18 +24,9 @@ namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 
-/// Distance from `p` to the segment a-b, and the parameter of the nearest place on it (0 at a, 1 at b).
-std::pair<double, double> segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d d = b - a;
-  const double len2 = d.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-  return {(p - (a + t * d)).norm(), t};
-}
-
 /// How far `p` lies outside the tube of the edge a-b (its radii interpolated along it).
 double outside_edge(const Skeleton& skeleton, const Eigen::Vector3d& p, NodeId a, NodeId b) {
-  const auto [d, t] = segment_distance(p, skeleton[a].position, skeleton[b].position);
-  return d - ((1.0 - t) * skeleton[a].radius + t * skeleton[b].radius);
+  return outside_tube(p, skeleton[a].position, skeleton[b].position, skeleton[a].radius, skeleton[b].radius);
 }
 
 /// Every skeleton edge sampled at a fixed spacing, in a kd-tree: the edges near a point.

@@ -22,6 +22,16 @@ inline double point_segment_distance(const Eigen::Vector3d& p, const Eigen::Vect
   return (p - (a + t * ab)).norm();
 }
 
+/// How far `p` lies outside the tube around [a, b] whose radius goes from `ra` at `a` to `rb` at `b`
+/// (negative inside).
+inline double outside_tube(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double ra,
+                           double rb) {
+  const Eigen::Vector3d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm() - ((1.0 - t) * ra + t * rb);
+}
+
 /// Shortest distance between the segments [a, b] and [c, d] (either may be a point).
 inline double segment_segment_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                                        const Eigen::Vector3d& d) {
