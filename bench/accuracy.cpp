@@ -248,7 +248,7 @@ int main(int argc, char** argv) {
   std::string out = "docs/accuracy.md", paper_csv = "bench/data/paper_tables.csv", pypetree;
   bool run_paper = true, run_hard = true;
   eval::CutOptions cut;
-  double prune_radius = PruneOptions{}.radius_factor, prune_bands = PruneOptions{}.min_bands,
+  double prune_radius = PruneOptions{}.radius_factor, point_host = PruneOptions{}.point_host_factor, prune_bands = PruneOptions{}.min_bands,
          close_fork_bands = PruneOptions{}.close_forks, band_factor = 1.0,
          cell_points = OctreeOptions{}.points_per_cell;
   std::size_t far_points = NeighbourGraphOptions{}.far_bridge_min_points;
@@ -281,6 +281,8 @@ int main(int argc, char** argv) {
       deeper_reach = std::stoi(value());
     } else if (a == "--prune-radius") {
       prune_radius = std::stod(value());
+    } else if (a == "--point-host") {
+      point_host = std::stod(value());
     } else if (a == "--close-forks") {
       close_fork_bands = std::stod(value());
     } else if (a == "--cut-any-points") {
@@ -297,6 +299,8 @@ int main(int argc, char** argv) {
     } else {
       std::cout << "usage: bench_accuracy [--seeds 1,2,3] [--out FILE.md] [--paper paper_tables.csv] [--pypetree DIR] [--sets paper,hard]\n"
                    "                      [--prune-radius F  (treeskel's spur pruning factor, to try a value)]\n"
+                   "                      [--point-host F  (treeskel's spur rule measured on the host's points, see\n"
+                   "                                        PruneOptions::point_host_factor; 0: on node radii)]\n"
                    "                      [--prune-bands F  (treeskel's shortest leaf branch kept, in bands)]\n"
                    "                      [--close-forks F  (treeskel's spurs at forks within F bands of another; 0: off)]\n"
                    "                      [--cut-any-points  (the sparse scans' truth cut by any points near a\n"
@@ -317,6 +321,7 @@ int main(int argc, char** argv) {
   auto configs = configurations();
   configs.back().options.prune.radius_factor = prune_radius;
   configs.back().options.prune.min_bands = prune_bands;
+  configs.back().options.prune.point_host_factor = point_host;
   configs.back().options.prune.close_forks = close_fork_bands;
   configs.back().options.graph.far_bridge_min_points = far_points;
   configs.back().options.octree.max_extra_depth = extra_depth;
@@ -426,8 +431,12 @@ int main(int argc, char** argv) {
           "(`bridge_rounds`), so that pieces of a crown nearer one another than the tree, joined to one another "
           "first, are then joined to the tree.\n"
        << "4. **CPC guarded** (`cpc.h`): moves only across the branch, only onto a cylinder-like slice.\n"
-       << "5. **Spur pruning** (`prune.h`, a leaf branch that stays within " << PruneOptions{}.radius_factor
-       << " radii of its host goes; and where two forks lie within " << PruneOptions{}.close_forks
+       << "5. **Spur pruning** (`prune.h`, a leaf branch that stays within " << PruneOptions{}.point_host_factor
+       << " times its host's radius goes, the host's radius the smaller of its nodes' median radius, which a "
+          "twig leaving near the fork inflates, and the median distance of its nodes' points from its axis, which "
+          "foliage inflates (the nodes' radii alone, at "
+       << PruneOptions{}.radius_factor
+       << " times, until 6 December 2026: `--point-host 0`); and where two forks lie within " << PruneOptions{}.close_forks
        << " bands of each other along the skeleton, a leaf arm of at most " << PruneOptions{}.close_fork_leaf
        << " bands at one of them, which made one true fork two) and **fork placement** (`junction.h`): they "
           "trade a little recall for much precision (compare the last two rows): without them a large share of "

@@ -23,7 +23,8 @@
 // within 1% and 2% of the height from the skeleton's axis (exact point-to-segment distances), and of
 // the points farther than 2% from the mesh, the share within 2% of the skeleton: what the mesh lost of
 // what the skeleton reached. A point the skeleton does not come near is the skeleton's loss, not the
-// mesh's.
+// mesh's. `bench_coverage [--up z] --skeleton SKELETON CLOUD` (no mesh) prints the skeleton's two
+// shares alone: how near a skeleton (`skeletonize`'s, say) comes to the points (bench/skeleton_reach.sh).
 #include "treeskel/geometry.h"
 #include "treeskel/io/mesh_io.h"
 #include "treeskel/io/point_cloud_io.h"
@@ -81,6 +82,15 @@ std::vector<double> axis_distances(const Skeleton& skeleton, const std::vector<E
 
 }  // namespace
 
+/// The distance of every point of `cloud` from the axis of the skeleton in `file`, moved into the
+/// cloud's local frame (as the mesh is).
+std::vector<double> skeleton_axis_distances(const std::string& file, const PointCloud& cloud, double step) {
+  Skeleton skeleton = io::read_skeleton(file);
+  const Eigen::Vector3d shift = skeleton.offset - cloud.offset;
+  for (NodeId v = 0; v < skeleton.node_count(); ++v) skeleton[v].position += shift;
+  return axis_distances(skeleton, cloud.positions, step);
+}
+
 int main(int argc, char** argv) {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   std::vector<std::string> files;
@@ -107,9 +117,14 @@ int main(int argc, char** argv) {
       files.push_back(a);
     }
   }
-  if (files.size() != 2) {
+  // With --skeleton and no mesh: the skeleton's line alone (how near a skeleton, e.g. skeletonize's,
+  // comes to the cloud's points).
+  const bool skeleton_only = files.size() == 1 && !skeleton_file.empty() && truth_file.empty() && !check_file &&
+                             !precision && missed_file.empty();
+  if (files.size() != 2 && !skeleton_only) {
     std::cerr << "usage: bench_coverage [--up x|y|z] [--truth SKELETON] [--skeleton SKELETON] [--check] [--frame MODELLED] [--precision]\n"
-                 "                      [--missed OUT.xyz] CLOUD MESH\n";
+                 "                      [--missed OUT.xyz] CLOUD MESH\n"
+                 "       bench_coverage [--up x|y|z] --skeleton SKELETON CLOUD\n";
     return 2;
   }
   try {
@@ -118,8 +133,18 @@ int main(int argc, char** argv) {
       const Eigen::Vector3d shift = cloud.offset - io::read_point_cloud(frame_file).offset;
       for (auto& p : cloud.positions) p += shift;
     }
-    const modeling::TreeMesh mesh = io::read_mesh(files[1]);
     double lo = 1e300, hi = -1e300, mesh_lo = 1e300, mesh_hi = -1e300;
+    if (skeleton_only) {
+      for (const auto& p : cloud.positions) {
+        lo = std::min(lo, p.dot(up));
+        hi = std::max(hi, p.dot(up));
+      }
+      const auto axis = skeleton_axis_distances(skeleton_file, cloud, 0.001 * (hi - lo));
+      std::printf("skeleton: within 1%% %.3f, within 2%% %.3f\n", modeling::share_within(axis, 0.01 * (hi - lo)),
+                  modeling::share_within(axis, 0.02 * (hi - lo)));
+      return 0;
+    }
+    const modeling::TreeMesh mesh = io::read_mesh(files[1]);
     Eigen::AlignedBox3d cloud_box, mesh_box;
     for (const auto& p : cloud.positions) {
       lo = std::min(lo, p.dot(up));
@@ -157,11 +182,7 @@ int main(int argc, char** argv) {
       if (std::fclose(out) != 0) throw std::runtime_error("cannot write " + missed_file);
     }
     if (!skeleton_file.empty()) {
-      // The skeleton in the cloud's local frame, as the mesh is.
-      Skeleton skeleton = io::read_skeleton(skeleton_file);
-      const Eigen::Vector3d shift = skeleton.offset - cloud.offset;
-      for (NodeId v = 0; v < skeleton.node_count(); ++v) skeleton[v].position += shift;
-      const auto axis = axis_distances(skeleton, cloud.positions, 0.001 * height);
+      const auto axis = skeleton_axis_distances(skeleton_file, cloud, 0.001 * height);
       std::size_t missed = 0, missed_near = 0;
       for (std::size_t i = 0; i < d.size(); ++i)
         if (d[i] > 0.02 * height) {

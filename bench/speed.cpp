@@ -1,9 +1,10 @@
 // Speed and peak memory of reading a cloud and extracting its skeleton.
 //
 //   bench_speed [--synthetic N,N,...] [--dense N,N,...] [--noise S] [--keep DIR] [--repeat R] [--threads T]
-//               [--depth-steps N] [FILE...]
+//               [--depth-steps N] [--prune-point-radius F] [FILE...]
 //
-// --depth-steps sets OctreeOptions::depth_steps (1: whole octree depths only), to compare.
+// --depth-steps sets OctreeOptions::depth_steps (1: whole octree depths only), to compare;
+// --prune-point-radius sets PruneOptions::point_host_factor (0: spurs judged on the nodes' radii).
 //
 // Synthetic clouds are random trees (eval::grow_tree) sampled with N points (Gaussian noise of
 // standard deviation S along the bark's normal, 2 mm by default) and written as binary
@@ -97,12 +98,14 @@ int main(int argc, char** argv) {
       keep = argv[++i];
     } else if (a == "--repeat" && i + 1 < argc) {
       repeat = std::max(1, std::atoi(argv[++i]));
+    } else if (a == "--prune-point-radius" && i + 1 < argc) {
+      options.prune.point_host_factor = std::atof(argv[++i]);
     } else if (a == "--depth-steps" && i + 1 < argc) {
       options.octree.depth_steps = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--threads" && i + 1 < argc) {
       threads = static_cast<unsigned>(std::atoi(argv[++i]));
     } else if (a == "--help" || a == "-h") {
-      std::cout << "usage: bench_speed [--synthetic N,N,...] [--dense N,N,...] [--noise S] [--keep DIR] [--repeat R] [--threads T] [--depth-steps N] [FILE...]\n";
+      std::cout << "usage: bench_speed [--synthetic N,N,...] [--dense N,N,...] [--noise S] [--keep DIR] [--repeat R] [--threads T] [--depth-steps N] [--prune-point-radius F] [FILE...]\n";
       return 0;
     } else {
       files.push_back(a);

@@ -117,6 +117,12 @@ void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
                "... or that stay within this many radii of the branch they leave (skeletonize: 1.75; a model: 1, "
                "keeping more twigs for the mesh to show; docs/models.md)")
       ->default_val(o.prune.radius_factor)->check(not_negative())->group(g);
+  c.add_option("--prune-point-radius", o.prune.point_host_factor,
+               "The radius rule with the points' help: a leaf branch goes when it stays within this many times its "
+               "host's radius, the smaller of its nodes' median radius (which a twig leaving at the fork inflates) "
+               "and the median distance of its points from its axis (which foliage inflates) (skeletonize: 2.25). "
+               "0: the nodes' radii alone, with --prune-radius (a model's; docs/accuracy.md)")
+      ->default_val(o.prune.point_host_factor)->check(not_negative())->group(g);
   c.add_option("--cpc-weight", o.cpc.weight, "Weight w of the equal-distance (cylinder) term of CPC")
       ->default_val(o.cpc.weight)->check(not_negative())->group(g);
   c.add_option("--eta", o.refine.eta, "Refinement threshold factor eta of eq. 8")->default_val(o.refine.eta)

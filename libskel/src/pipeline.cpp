@@ -155,7 +155,7 @@ Skeleton skeleton_from_cells(const PointCloud& cloud, const OctreeCells& cells, 
 
   if (options.use_prune) {
     clock.start("pruning", 0.6);
-    stats.pruned_branches = prune_short_branches(skeleton, stats.band_width, options.prune);
+    stats.pruned_branches = prune_short_branches(skeleton, stats.band_width, options.prune, &cloud);
   }
   if (options.use_cpc) {
     clock.start("CPC", 0.65);

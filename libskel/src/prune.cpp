@@ -6,11 +6,18 @@
 
 namespace treeskel {
 
+namespace {
+/// The most host points whose distances from the host axis give its radius (`point_host_factor`).
+constexpr std::size_t kHostSamples = 256;
+}  // namespace
+
 double prune_length_for(const PruneOptions& options, double band_width) {
   return options.min_length > 0.0 ? options.min_length : options.min_bands * band_width;
 }
 
-std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const PruneOptions& options) {
+std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const PruneOptions& options,
+                                 const PointCloud* cloud) {
+  const bool host_from_points = cloud != nullptr && options.point_host_factor > 0.0;
   const double min_length = prune_length_for(options, band_width);
   std::size_t removed_total = 0;
   auto& g = skeleton.graph;
@@ -51,14 +58,16 @@ std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const Pr
     }
 
     // The branch a leaf leaves: a few nodes of the fork's parent chain and of its other children.
-    auto host_segments = [&](NodeId fork, const Leaf& leaf, std::vector<double>& radii) {
+    auto host_segments = [&](NodeId fork, const Leaf& leaf, std::vector<double>& radii, std::vector<NodeId>& hosts) {
       std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments;
       radii.assign(1, g[fork].radius);
+      hosts.assign(1, fork);
       NodeId u = fork;
       for (int k = 0; k < options.host_nodes && u != skeleton.root; ++k) {
         segments.emplace_back(g[u].position, g[parent[u]].position);
         u = parent[u];
         radii.push_back(g[u].radius);
+        hosts.push_back(u);
       }
       for (NodeId c : children[fork]) {
         if (c == leaf.nodes.back()) continue;
@@ -68,6 +77,7 @@ std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const Pr
           if (next == w) break;
           segments.emplace_back(g[w].position, g[next].position);
           radii.push_back(g[next].radius);
+          hosts.push_back(next);
           w = next;
         }
       }
@@ -75,9 +85,27 @@ std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const Pr
       return segments;
     };
 
+    // The distances of the host nodes' points from the host axis, with their median in the middle
+    // place; a stride keeps at most kHostSamples of them (dense clouds). False when they have none.
+    auto host_spread = [&](const std::vector<NodeId>& host_nodes, const auto& distance_to_host,
+                           std::vector<double>& out) {
+      std::size_t total = 0;
+      for (NodeId h : host_nodes) total += g[h].points.size();
+      out.clear();
+      if (total == 0) return false;
+      const std::size_t stride = (total + kHostSamples - 1) / kHostSamples;
+      std::size_t i = 0;
+      for (NodeId h : host_nodes)
+        for (auto p : g[h].points)
+          if (i++ % stride == 0) out.push_back(distance_to_host(cloud->positions[p]));
+      std::nth_element(out.begin(), out.begin() + out.size() / 2, out.end());
+      return true;
+    };
+
     std::vector<NodeId> cut;
     std::size_t removed = 0;
-    std::vector<double> radii;
+    std::vector<double> radii, spread;
+    std::vector<NodeId> hosts;
     for (NodeId fork = 0; fork < n; ++fork) {
       auto& leaves = leaves_at[fork];
       if (leaves.empty()) continue;
@@ -92,16 +120,23 @@ std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const Pr
         if (!spurious) {
           // A leaf that never leaves the volume of the branch it grows on is a piece of that branch's
           // surface, not a branch.
-          const auto segments = host_segments(fork, leaf, radii);
-          std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
-          const double host_radius = radii[radii.size() / 2];
-          double reach = 0.0;
-          for (NodeId u : leaf.nodes) {
+          const auto segments = host_segments(fork, leaf, radii, hosts);
+          auto distance_to_host = [&](const Eigen::Vector3d& q) {
             double d = 1e300;
-            for (const auto& [a, b] : segments) d = std::min(d, point_segment_distance(g[u].position, a, b));
-            reach = std::max(reach, d);
+            for (const auto& [a, b] : segments) d = std::min(d, point_segment_distance(q, a, b));
+            return d;
+          };
+          // The nodes' median radius; with the cloud, the smaller of it and the points' median spread
+          // (a twig leaving at the fork inflates the nodes' radii, foliage around the host its points').
+          std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
+          double factor = options.radius_factor, host_radius = radii[radii.size() / 2];
+          if (host_from_points && host_spread(hosts, distance_to_host, spread)) {
+            factor = options.point_host_factor;
+            host_radius = std::min(host_radius, spread[spread.size() / 2]);
           }
-          spurious = reach < options.radius_factor * host_radius + 0.5 * band_width;
+          double reach = 0.0;
+          for (NodeId u : leaf.nodes) reach = std::max(reach, distance_to_host(g[u].position));
+          spurious = reach < factor * host_radius + 0.5 * band_width;
         }
         if (!spurious) continue;
         for (auto u : leaf.nodes) {

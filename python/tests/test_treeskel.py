@@ -51,7 +51,7 @@ def test_model_equals_the_commands(exe, data, tmp_path):
     assert mesh.faces.max() < len(mesh.vertices)
     # The stages one at a time give the same as model(), the skeleton pruned as a model prunes.
     fitted = treeskel.fit_radii(
-        treeskel.extract_skeleton(treeskel.read_cloud(str(data / "tree_rtwig.txt")), prune_radius=1, prune_bands=1, close_forks=0), exponent=2.2)
+        treeskel.extract_skeleton(treeskel.read_cloud(str(data / "tree_rtwig.txt")), prune_radius=1, prune_point_radius=0, prune_bands=1, close_forks=0), exponent=2.2)
     again = treeskel.tree_mesh(fitted, local=True)
     assert np.array_equal(again.faces, mesh.faces) and np.array_equal(again.vertices, mesh.vertices)
     assert np.array_equal(skeleton.radii, fitted.radii) and np.array_equal(skeleton.positions, fitted.positions)
@@ -92,9 +92,11 @@ def test_tree_mesh_warns_of_limbs_left_out(data):
     # skeleton has a limb (15% of its length) that finds no room at its fork. (With the default of 3
     # the limbs left out hold 3.5% of the length, under what the summary warns of; and with the limbs
     # straightened, as `fit_radii` does by default since 6 December 2026, 1%: stiffness=0 keeps the
-    # skeleton's path.)
-    skeleton = treeskel.fit_radii(treeskel.extract_skeleton(str(data / "tree_adtree1.xyz"), far_bridge_points=10),
-                                  stiffness=0)
+    # skeleton's path; the spurs judged on the nodes' radii, as until 6 December 2026, with
+    # prune_point_radius=0.)
+    skeleton = treeskel.fit_radii(
+        treeskel.extract_skeleton(str(data / "tree_adtree1.xyz"), far_bridge_points=10, prune_point_radius=0),
+        stiffness=0)
     # Limbs not united (no_unite) are left out, and with them much of the skeleton: said, as the
     # command says it, though tree_mesh measures nothing.
     with pytest.warns(UserWarning) as said:
@@ -114,11 +116,11 @@ def test_complete_equals_the_commands(exe, data, tmp_path):
     mesh.save(str(tmp_path / "py.ply"), local=True)
     run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", "--complete", "-q")
     assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
-    plain = treeskel.fit_radii(treeskel.extract_skeleton(cloud, prune_radius=1, prune_bands=1, close_forks=0))
+    plain = treeskel.fit_radii(treeskel.extract_skeleton(cloud, prune_radius=1, prune_point_radius=0, prune_bands=1, close_forks=0))
     assert len(skeleton) > len(plain)  # the grown branches
-    assert len(treeskel.fit_radii(treeskel.extract_skeleton(cloud, prune_radius=1, prune_bands=1, close_forks=0), complete=True)) == len(skeleton)
+    assert len(treeskel.fit_radii(treeskel.extract_skeleton(cloud, prune_radius=1, prune_point_radius=0, prune_bands=1, close_forks=0), complete=True)) == len(skeleton)
     # extract_skeleton prunes as skeletonize does, more than a model: fewer nodes.
-    assert len(treeskel.extract_skeleton(cloud)) < len(treeskel.extract_skeleton(cloud, prune_radius=1, prune_bands=1, close_forks=0))
+    assert len(treeskel.extract_skeleton(cloud)) < len(treeskel.extract_skeleton(cloud, prune_radius=1, prune_point_radius=0, prune_bands=1, close_forks=0))
 
 
 def test_bad_input_raises_value_error_with_the_message(tmp_path):

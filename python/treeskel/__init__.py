@@ -16,8 +16,8 @@ work runs without the GIL, so threads convert trees in parallel.
     skeleton = treeskel.extract_skeleton(points, wood_only=True)  # the skeleton of the wood alone
 
     skeleton = treeskel.extract_skeleton(points)          # an (N, 3) numpy array; pruned as skeletonize
-                                                           # prunes (prune_radius=1, prune_bands=1,
-                                                           # close_forks=0 as model() does)
+                                                           # prunes (prune_radius=1, prune_point_radius=0,
+                                                           # prune_bands=1, close_forks=0 as model() does)
     skeleton = treeskel.fit_radii(skeleton)                # radii by the pipe model
     mesh = treeskel.tree_mesh(skeleton)                    # vertices, faces as numpy arrays
     print(treeskel.measure(skeleton)["dbh"])

@@ -288,7 +288,7 @@ TEST(Cli, ModelCompleteGrowsBranchesThroughThePointsItPassedBy) {
 }
 
 // The limbs are straightened by default (stiffness 2, in the report, with what moved); --stiffness 0
-// keeps the skeleton's path, node for node what `skeletonize --prune-radius 1` writes but the root,
+// keeps the skeleton's path, node for node what `skeletonize` pruned as a model writes but the root,
 // which goes down its trunk to where its points end (in the report too); a negative stiffness is
 // refused. The stubs found are in the report too (35 on this tree; none with --stub-length 0).
 TEST(Cli, ModelStraightensTheLimbsUnlessTheStiffnessIsZero) {
@@ -309,10 +309,12 @@ TEST(Cli, ModelStraightensTheLimbsUnlessTheStiffnessIsZero) {
   ASSERT_EQ(twigs.code, 0) << twigs.out;
   EXPECT_EQ(nlohmann::json::parse(twigs.out)["radii"]["stubs"].get<int>(), 0);
   EXPECT_NE(run("model " + cloud + " -o e.ply --stub-length -1", dir.root()).code, 0);
-  // A model prunes less than skeletonize (modeling::use_model_pruning: spurs within 1 radius, not
-  // 1.75, leaves under a whole band, none at close forks): pruned as a model prunes, skeletonize gives the same nodes;
-  // pruned as it does by default, fewer.
-  const Result plain = run("skeletonize " + cloud + " -o c.json --prune-radius 1 --prune-bands 1 --close-forks 0", dir.root());
+  // A model prunes less than skeletonize (modeling::use_model_pruning: spurs within 1 of the nodes'
+  // radii, not 2.25 of the points' spread, leaves under a whole band, none at close forks): pruned as
+  // a model prunes, skeletonize gives the same nodes; pruned as it does by default, fewer.
+  const Result plain = run("skeletonize " + cloud +
+                               " -o c.json --prune-radius 1 --prune-point-radius 0 --prune-bands 1 --close-forks 0",
+                           dir.root());
   ASSERT_EQ(plain.code, 0) << plain.out;
   const Result pruned = run("skeletonize " + cloud + " -o p.json", dir.root());
   ASSERT_EQ(pruned.code, 0) << pruned.out;

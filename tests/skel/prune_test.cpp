@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace treeskel {
 namespace {
 
@@ -96,6 +98,74 @@ TEST(Prune, ASpurAtAForkCloseToAnotherGoes) {
   short_spurs.close_fork_leaf = 2.0;  // the spur is 2.2 bands long
   EXPECT_EQ(prune_spurs_at_close_forks(kept, 1.0, short_spurs), 0u);
   EXPECT_EQ(count_branch_points(kept.graph), 2u);
+}
+
+// A trunk along z whose points lie `spread` from its axis while its nodes' radii say `radius`, and
+// a leaf reaching `reach` from the axis at z = 2 (the trunk goes on 2 above it, so the leaf is the
+// shorter child of its fork).
+Skeleton trunk_with_leaf(double reach, PointCloud& cloud, double radius = 0.6, double spread = 0.2) {
+  Skeleton s;
+  cloud.positions.clear();
+  for (int i = 0; i < 5; ++i) {
+    SkeletonNode n;
+    n.position = {0, 0, static_cast<double>(i)};
+    n.radius = radius;
+    for (int k = 0; k < 8; ++k) {
+      const double a = k * 3.14159265358979 / 4;
+      n.points.push_back(static_cast<std::uint32_t>(cloud.positions.size()));
+      cloud.positions.emplace_back(spread * std::cos(a), spread * std::sin(a), i);
+    }
+    add_node(s, n);
+  }
+  SkeletonNode leaf;
+  leaf.position = {reach, 0, 2};
+  leaf.radius = 0.1;
+  leaf.points = {static_cast<std::uint32_t>(cloud.positions.size())};
+  cloud.positions.push_back(leaf.position);
+  add_node(s, leaf);
+  for (int i = 0; i < 4; ++i) boost::add_edge(i, i + 1, s.graph);
+  boost::add_edge(2, 5, s.graph);
+  return s;
+}
+
+// Bark points 0.2 from the axis, the nodes' radii 0.6 (as a twig leaving near the fork makes them).
+// On the nodes' radii the rule (1.75 radii + half a band = 1.55) removes a leaf reaching 1.4; on the
+// points (2.25 times 0.2 + half a band = 0.95) it stays, and one reaching 0.8 goes. Without the cloud,
+// or with the factor 0, the nodes' radii decide.
+TEST(Prune, TheHostRadiusComesFromItsPoints) {
+  PointCloud cloud;
+  Skeleton kept = trunk_with_leaf(1.4, cloud);
+  EXPECT_DOUBLE_EQ(PruneOptions{}.point_host_factor, 2.25);
+  EXPECT_EQ(prune_short_branches(kept, 1.0, PruneOptions{}, &cloud), 0u);
+  EXPECT_EQ(count_branch_points(kept.graph), 1u);
+
+  Skeleton on_nodes = trunk_with_leaf(1.4, cloud);
+  EXPECT_EQ(prune_short_branches(on_nodes, 1.0), 1u);  // no cloud: the nodes' radii
+  Skeleton factor_off = trunk_with_leaf(1.4, cloud);
+  PruneOptions off;
+  off.point_host_factor = 0.0;
+  EXPECT_EQ(prune_short_branches(factor_off, 1.0, off, &cloud), 1u);
+
+  Skeleton spur = trunk_with_leaf(0.8, cloud);
+  EXPECT_EQ(prune_short_branches(spur, 1.0, PruneOptions{}, &cloud), 1u);
+  EXPECT_EQ(count_branch_points(spur.graph), 0u);
+  EXPECT_EQ(validate(spur, cloud.size()), "");
+  EXPECT_EQ(spur[2].points.size(), 9u);  // the spur's point went to the fork
+}
+
+// The other way round: points 0.6 from the axis (foliage around the host), the nodes' radii 0.2.
+// The smaller of the two is the host's radius: the leaf reaching 1.4 stays (2.25 times 0.2 + half a
+// band = 0.95), where the points alone (2.25 times 0.6 + 0.5 = 1.85) would remove it.
+TEST(Prune, FoliageAroundTheHostDoesNotWidenIt) {
+  PointCloud cloud;
+  Skeleton s = trunk_with_leaf(1.4, cloud, 0.2, 0.6);
+  EXPECT_EQ(prune_short_branches(s, 1.0, PruneOptions{}, &cloud), 0u);
+  Skeleton far = trunk_with_leaf(1.4, cloud, 0.2, 0.6);
+  PruneOptions wide;
+  wide.point_host_factor = 3.0;  // 3 times 0.2 + 0.5 = 1.1: still kept
+  EXPECT_EQ(prune_short_branches(far, 1.0, wide, &cloud), 0u);
+  Skeleton near = trunk_with_leaf(0.8, cloud, 0.2, 0.6);
+  EXPECT_EQ(prune_short_branches(near, 1.0, PruneOptions{}, &cloud), 1u);
 }
 
 TEST(Prune, KeepsTheLongestWhenEveryChildIsShort) {

@@ -7,6 +7,7 @@
 /// point is lost.
 #pragma once
 
+#include "treeskel/point_cloud.h"
 #include "treeskel/skeleton.h"
 
 namespace treeskel {
@@ -30,6 +31,20 @@ struct PruneOptions {
   /// radius is the host radius.
   double radius_factor = 1.75;
   int host_nodes = 4;  ///< nodes of each neighbouring chain that define the host branch
+  /// The radius rule with the points' help, when > 0 and the cloud is given (the pipeline gives it):
+  /// the host radius is the smaller of the nodes' median radius and the median distance of the host
+  /// nodes' points from the host axis (at most 256 of them, evenly strided), and a leaf whose nodes
+  /// stay within this many of it (plus half a band) is spurious; `radius_factor` then serves only
+  /// where the host nodes hold no point. The nodes' radii near a fork grow with the twig that leaves
+  /// there: where the rule on them removed a true twig (seed 1's hard sets, a twig whose tip lies
+  /// within 0.02 of a true tip), the host radius was a median 2.7-5 times the true parent's; where it
+  /// removed a spur, 0.9-1.1 times. The points' spread grows with foliage around the host (a
+  /// spruce's needles): the smaller of the two. Three seeds: the 72 clouds' branch-point precision
+  /// +0.005-0.010 at BPC within 0.004, every degradation at once precision 0.823 → 0.851, the sparse
+  /// scans' BPC up, the crowded crowns' BPC 0.571 → 0.543 (docs/accuracy.md, README "Spurs judged
+  /// with their host's points"). 0: the node radii with `radius_factor` (a model's,
+  /// `modeling::use_model_pruning`).
+  double point_host_factor = 2.25;
   /// Forks this many bands or less apart along the skeleton are a close pair, and the level sets'
   /// making more often than the tree's: where one true fork's branches leave a band or two apart, a
   /// spur beside them made it two (on seed 1's sparse scans and every-degradation clouds, most of
@@ -49,7 +64,8 @@ double prune_length_for(const PruneOptions& options, double band_width);
 /// Removes spurious leaf branches until none is left; where every child of a fork is short, the longest
 /// stays (it is the continuation of the branch). Returns the number of branches removed.
 /// @param[in] band_width  the level sets' band width, which scales the default `min_length`
-std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const PruneOptions& options = {});
+std::size_t prune_short_branches(Skeleton& skeleton, double band_width, const PruneOptions& options = {},
+                                 const PointCloud* cloud = nullptr);
 
 /// At every fork within `options.close_forks` bands of another (see PruneOptions), in node order,
 /// removes its shortest leaf arm if it is at most `close_fork_leaf` bands long; the arm's points go to

@@ -49,11 +49,14 @@ inline constexpr double kModelPruneRadius = 1.0;
 /// within 1% of its height (docs/models.md).
 inline constexpr double kModelPruneBands = 1.0;
 
-/// Sets `prune` to how a model's skeleton is pruned: `kModelPruneRadius`, `kModelPruneBands`, and
-/// no spurs removed at close forks (`PruneOptions::close_forks` 0: a short twig beside a fork is
-/// wood the mesh shows, whether or not the fork is the level sets' doubling of one).
+/// Sets `prune` to how a model's skeleton is pruned: `kModelPruneRadius` on the nodes' radii (not on
+/// the points, `PruneOptions::point_host_factor` 0: the model's twigs and stubs were chosen with
+/// it), `kModelPruneBands`, and no spurs removed at close forks (`PruneOptions::close_forks` 0: a
+/// short twig beside a fork is wood the mesh shows, whether or not the fork is the level sets'
+/// doubling of one).
 inline void use_model_pruning(PruneOptions& prune) {
   prune.radius_factor = kModelPruneRadius;
+  prune.point_host_factor = 0.0;
   prune.min_bands = kModelPruneBands;
   prune.close_forks = 0.0;
 }
