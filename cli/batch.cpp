@@ -574,7 +574,7 @@ Command add_batch(CLI::App& app) {
   c->add_option("--model", s->model, "Mesh format of each tree's model: glb (the default), gltf, obj, ply or stl");
   c->add_option("--skeleton", s->skeleton,
                 "Also write each tree's skeleton in this format: json, ply or obj (alone: skeletons only, "
-                "no model)");
+                "no model, pruned as skeletonize prunes: the pruning defaults shown below are a model's)");
   c->add_flag("--html", s->html,
               "Also write each tree's page (NAME.html: cloud, skeleton, mesh and report, opens from disk) and "
               "index.html, a table of the trees linking to them");

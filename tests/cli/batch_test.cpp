@@ -132,6 +132,10 @@ TEST(Batch, SkeletonsOnlyAndOneShardOfAnArrayJob) {
   const auto summary = read_json(dir.path("out/summary-1-of-2.json"));
   ASSERT_EQ(summary["trees"].size(), 1u);
   EXPECT_EQ(summary["trees"][0]["nodes"].get<std::size_t>(), s.node_count());
+  // Pruned as skeletonize prunes, not as the model defaults --help shows: the same skeleton.
+  const Result direct = run("skeletonize " + quoted(dir.path("in/b.txt")) + " -o " + quoted(dir.path("b.json")) + " -q");
+  ASSERT_EQ(direct.code, 0) << direct.out;
+  EXPECT_EQ(io::read_skeleton(dir.path("b.json")).node_count(), s.node_count());
   // An option of the model without a model is a usage error, before any work.
   const Result wrong = run("batch " + quoted(dir.path("in")) + " -o " + quoted(dir.path("out2")) + " --skeleton json --exponent 2.5");
   EXPECT_EQ(wrong.code, 2) << wrong.out;
