@@ -134,23 +134,19 @@ int main(int argc, char** argv) {
       for (auto& p : cloud.positions) p += shift;
     }
     double lo = 1e300, hi = -1e300, mesh_lo = 1e300, mesh_hi = -1e300;
-    if (skeleton_only) {
-      for (const auto& p : cloud.positions) {
-        lo = std::min(lo, p.dot(up));
-        hi = std::max(hi, p.dot(up));
-      }
-      const auto axis = skeleton_axis_distances(skeleton_file, cloud, 0.001 * (hi - lo));
-      std::printf("skeleton: within 1%% %.3f, within 2%% %.3f\n", modeling::share_within(axis, 0.01 * (hi - lo)),
-                  modeling::share_within(axis, 0.02 * (hi - lo)));
-      return 0;
-    }
-    const modeling::TreeMesh mesh = io::read_mesh(files[1]);
     Eigen::AlignedBox3d cloud_box, mesh_box;
     for (const auto& p : cloud.positions) {
       lo = std::min(lo, p.dot(up));
       hi = std::max(hi, p.dot(up));
       cloud_box.extend(p);
     }
+    if (skeleton_only) {
+      const auto axis = skeleton_axis_distances(skeleton_file, cloud, 0.001 * (hi - lo));
+      std::printf("skeleton: within 1%% %.3f, within 2%% %.3f\n", modeling::share_within(axis, 0.01 * (hi - lo)),
+                  modeling::share_within(axis, 0.02 * (hi - lo)));
+      return 0;
+    }
+    const modeling::TreeMesh mesh = io::read_mesh(files[1]);
     for (auto v : mesh.vertices()) {
       const auto p = mesh.point(v);
       const Eigen::Vector3d q(p[0], p[1], p[2]);
