@@ -299,7 +299,7 @@ int main(int argc, char** argv) {
     } else {
       std::cout << "usage: bench_accuracy [--seeds 1,2,3] [--out FILE.md] [--paper paper_tables.csv] [--pypetree DIR] [--sets paper,hard]\n"
                    "                      [--prune-radius F  (treeskel's spur pruning factor, to try a value)]\n"
-                   "                      [--point-host F  (treeskel's spur rule measured on the host's points, see\n"
+                   "                      [--point-host F  (treeskel's spur rule with the host's points' help, see\n"
                    "                                        PruneOptions::point_host_factor; 0: on node radii)]\n"
                    "                      [--prune-bands F  (treeskel's shortest leaf branch kept, in bands)]\n"
                    "                      [--close-forks F  (treeskel's spurs at forks within F bands of another; 0: off)]\n"

@@ -114,8 +114,9 @@ void add_skeleton_options(CLI::App& c, SkeletonSettings& s) {
                "keeping those twigs for the mesh; docs/accuracy.md)")
       ->default_val(o.prune.close_forks)->check(not_negative())->group(g);
   c.add_option("--prune-radius", o.prune.radius_factor,
-               "... or that stay within this many radii of the branch they leave (skeletonize: 1.75; a model: 1, "
-               "keeping more twigs for the mesh to show; docs/models.md)")
+               "... or that stay within this many of their host's nodes' radii, where --prune-point-radius is 0 "
+               "(a model: 1, keeping more twigs for the mesh to show; docs/models.md) or the host holds no "
+               "points (skeletonize: 1.75)")
       ->default_val(o.prune.radius_factor)->check(not_negative())->group(g);
   c.add_option("--prune-point-radius", o.prune.point_host_factor,
                "The radius rule with the points' help: a leaf branch goes when it stays within this many times its "
