@@ -272,6 +272,13 @@ int run(Settings& s) {
                   {"checks", checks_done - mesh_done},
                   {"measure_and_write", seconds - checks_done},
                   {"total", seconds}};
+  // The mesh's own stages (modeling::SweepStats): the tree's sweep with its repair rounds, of which
+  // CGAL's whole-mesh tests, then the pieces' sweeps and their unions with the tree; `mesh` above
+  // is their sum and what little comes between them.
+  j["mesh_seconds"] = {{"sweep", sweep_stats.sweep_seconds},
+                       {"whole_mesh_tests", sweep_stats.test_seconds},
+                       {"pieces", sweep_stats.pieces_seconds},
+                       {"unions", sweep_stats.union_seconds}};
   j["peak_memory_mb"] = peak_memory_mb();
   if (view_outputs.wanted()) {
     progress("writing the page", 0.97);

@@ -550,7 +550,12 @@ TreeMesh add_pieces(TreeMesh mesh, const std::vector<Skeleton>& pieces, const Sw
   // The sweep's whole-mesh test ran and found no crossing (the pieces' sweeps do not count there).
   const bool clean = options.repair && st.self_intersections == 0;
   Uniter uniter(options, bounding_box(mesh).sizes().maxCoeff(), frame, scale, st, clean);
-  TreeMesh united = uniter.unite(mesh, uniter.sweep_all(pieces));
+  auto start = std::chrono::steady_clock::now();
+  std::vector<Piece> swept = uniter.sweep_all(pieces);
+  st.pieces_seconds = seconds_since(start);
+  start = std::chrono::steady_clock::now();
+  TreeMesh united = uniter.unite(mesh, std::move(swept));
+  st.union_seconds = seconds_since(start);
   for (const auto& part : uniter.apart()) append_mesh(united, part);
   return united;
 }

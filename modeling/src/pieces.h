@@ -8,10 +8,16 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <chrono>
 #include <cstddef>
 #include <vector>
 
 namespace treeskel::modeling::detail {
+
+/// Wall time since `start`, in seconds (SweepStats' stage times).
+inline double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 /// The offset to the frame files of this skeleton's mesh hold (local + offset): the input's, unless
 /// 32-bit floats would round it by more than 1e-5 of the tree's size (then local, zero).

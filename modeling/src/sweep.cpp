@@ -16,6 +16,8 @@
 #include <Eigen/Geometry>
 #include <tbb/parallel_invoke.h>
 
+#include <chrono>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -715,8 +717,10 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
     // one core here, so the two run side by side; the doubles' answer counts only when the floats
     // found nothing.
     std::vector<std::pair<std::size_t, std::size_t>> pairs, double_pairs;
+    const auto tested = std::chrono::steady_clock::now();
     tbb::parallel_invoke([&] { pairs = self_intersecting_faces_at(*mesh, detail::world_floats(*mesh, frame)); },
                          [&] { double_pairs = self_intersecting_faces(*mesh); });
+    st.test_seconds += detail::seconds_since(tested);
     st.float_crossings = pairs.size();
     if (pairs.empty()) pairs = std::move(double_pairs);
     st.self_intersections = pairs.size();
@@ -889,7 +893,9 @@ TreeMesh detail::sweep_in_frame(const Skeleton& skeleton, const SweepOptions& op
                         wood_volume(skeleton, floor_radius), kLongestBandShare * box.sizes().maxCoeff()};
   SweepStats st;
   std::vector<Skeleton> apart;
+  const auto start = std::chrono::steady_clock::now();
   TreeMesh mesh = sweep_part(skeleton, options, frame, scale, st, apart, nullptr);
+  st.sweep_seconds = detail::seconds_since(start);
   if (!apart.empty()) mesh = add_pieces(std::move(mesh), apart, options, frame, scale, st);
   if (stats) *stats = st;
   return mesh;

@@ -220,6 +220,17 @@ TEST(Cli, ModelTurnsTheExampleIntoAGlbWithReportAndQsm) {
   }
   EXPECT_NEAR(stages, j["seconds"]["total"].get<double>(), 1e-9);
   EXPECT_GT(j["seconds"]["mesh"].get<double>(), 0.0);
+  // The mesh's stages: none negative, the tests part of the sweep, together within the mesh's time.
+  double mesh_stages = 0.0;
+  for (const char* stage : {"sweep", "whole_mesh_tests", "pieces", "unions"}) {
+    ASSERT_TRUE(j["mesh_seconds"].contains(stage)) << stage;
+    EXPECT_GE(j["mesh_seconds"][stage].get<double>(), 0.0) << stage;
+    if (std::string(stage) != "whole_mesh_tests") mesh_stages += j["mesh_seconds"][stage].get<double>();
+  }
+  EXPECT_GT(j["mesh_seconds"]["sweep"].get<double>(), 0.0);
+  EXPECT_GT(j["mesh_seconds"]["whole_mesh_tests"].get<double>(), 0.0);
+  EXPECT_LE(j["mesh_seconds"]["whole_mesh_tests"].get<double>(), j["mesh_seconds"]["sweep"].get<double>());
+  EXPECT_LE(mesh_stages, j["seconds"]["mesh"].get<double>());
   std::ifstream csv(dir.path("qsm.csv"));
   std::string header;
   std::getline(csv, header);

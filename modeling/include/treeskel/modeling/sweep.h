@@ -114,6 +114,14 @@ struct SweepStats {
   /// Face pairs that cross once the mesh is rounded to the 32-bit floats of the frame files hold
   /// (tested where pieces were united; the union adds none to what the tree had without them).
   std::size_t float_crossings = 0;
+  /// Wall time of the mesh's stages, the whole tree's only (a piece's own sweep counts in
+  /// `pieces_seconds`): the tree's sweep with its repair rounds, of which CGAL's whole-mesh tests
+  /// (floats and doubles side by side, each round that assembles), the pieces' sweeps, and their
+  /// unions with the tree (corefinements, the tests of the regions they changed, any retries).
+  double sweep_seconds = 0.0;
+  double test_seconds = 0.0;
+  double pieces_seconds = 0.0;
+  double union_seconds = 0.0;
 };
 
 /// @throws OptionError naming the first option of `options` out of range (what sweep_mesh refuses).
