@@ -107,10 +107,11 @@ int run(Settings& s) {
   } else {
     cloud = io::read_point_cloud(s.input);
     ground = set_ground_aside(s.method, *cloud, s.input, s.quiet || s.json);
-    wood = keep_wood(s.method, *cloud, s.input, s.quiet || s.json);
-    SkeletonOptions o = skeleton_options_for(s.method, *cloud);
-    if (progress.active()) o.progress = [&](const std::string& stage, double done) { progress(stage, 0.05 + 0.6 * done); };
-    skeleton = extract_skeleton_of(s.input, *cloud, o, &skeleton_stats);
+    wood = keep_wood_then(s.method, *cloud, s.input, s.quiet || s.json, [&] {
+      SkeletonOptions o = skeleton_options_for(s.method, *cloud);
+      if (progress.active()) o.progress = [&](const std::string& stage, double done) { progress(stage, 0.05 + 0.6 * done); };
+      skeleton = extract_skeleton_of(s.input, *cloud, o, &skeleton_stats);
+    });
   }
   const double skeleton_seconds = clock.seconds();
 

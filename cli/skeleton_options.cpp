@@ -9,6 +9,8 @@
 #include "treeskel/io/skeleton_io.h"
 #include "treeskel/modeling/radii.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <cmath>
 #include <iostream>
 #include <sstream>
@@ -208,6 +210,18 @@ WoodSplit keep_wood(const SkeletonSettings& s, PointCloud& cloud, const std::str
     throw InputError(input + ": " + option + " found " + std::to_string(cloud.size()) + " of " + std::to_string(all) +
                      " points that look like wood; too few for a skeleton (" +
                      (s.wood_only ? "leave --wood-only off" : "keep the leaves: leave --wood-if-leafy off, or plot's --keep-leaves") + ")");
+  return split;
+}
+
+WoodSplit keep_wood_then(const SkeletonSettings& s, PointCloud& cloud, const std::string& input, bool quiet,
+                         const std::function<void()>& extract) {
+  WoodSplit split;
+  if (may_set_leaves_aside(s)) {
+    split = keep_wood(s, cloud, input, quiet);
+    extract();
+  } else {
+    tbb::parallel_invoke([&] { split = keep_wood(s, cloud, input, quiet); }, extract);
+  }
   return split;
 }
 

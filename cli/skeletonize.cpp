@@ -54,13 +54,13 @@ int run(Settings& s) {
   progress("reading " + fs::path(s.input).filename().string(), 0.0);
   PointCloud cloud = io::read_point_cloud(s.input);
   const std::size_t ground = set_ground_aside(s.method, cloud, s.input, s.quiet || s.json);
-  const WoodSplit wood = keep_wood(s.method, cloud, s.input, s.quiet || s.json);
-
-  SkeletonOptions o = skeleton_options_for(s.method, cloud);
-  if (progress.active()) o.progress = [&](const std::string& stage, double done) { progress(stage, 0.05 + 0.9 * done); };
-
+  Skeleton skeleton;
   SkeletonStats stats;
-  const Skeleton skeleton = extract_skeleton_of(s.input, cloud, o, &stats);
+  const WoodSplit wood = keep_wood_then(s.method, cloud, s.input, s.quiet || s.json, [&] {
+    SkeletonOptions o = skeleton_options_for(s.method, cloud);
+    if (progress.active()) o.progress = [&](const std::string& stage, double done) { progress(stage, 0.05 + 0.9 * done); };
+    skeleton = extract_skeleton_of(s.input, cloud, o, &stats);
+  });
   progress("writing " + fs::path(s.output).filename().string(), 0.97);
   try {
     io::write_skeleton(output_to, skeleton);
