@@ -16,10 +16,9 @@
 #include <Eigen/Geometry>
 #include <tbb/parallel_invoke.h>
 
-#include <chrono>
-
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
