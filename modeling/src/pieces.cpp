@@ -13,6 +13,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <iterator>
+#include <optional>
+#include <tuple>
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
@@ -21,12 +23,15 @@ namespace treeskel::modeling::detail {
 
 namespace {
 
-/// Rounds of collapsing the slivers of a union that cross a neighbour once rounded to floats: on as
-/// long as a round leaves fewer crossings than the best before it, but at most kSliverRounds, and
-/// no more after kSliverStall rounds without such progress (collapses can make new slivers, and the
-/// count then wanders). Then the longest edge (in weld distances) such a collapse may remove.
-/// (Four rounds flat left 30 of 243 crossings of AdTree's Lille_11 in the frame of a PLY, whose floats
-/// step by 6e-5 m there, and its union was tried again: 3.4 s for the model instead of 2.2 s.)
+/// Rounds of collapsing the slivers of a union that cross a neighbour once rounded to floats:
+/// kFlatRounds, then on while they make progress (a round that leaves fewer crossings than the best
+/// before it; none for kSliverStall rounds ends them), at most kSliverRounds. Collapses can make new
+/// slivers, and the count then wanders: where the rounds past kFlatRounds do not clear every
+/// crossing, the union is tried again from where kFlatRounds left it, as before there were more.
+/// (Four rounds left 30 of 243 crossings of AdTree's Lille_11 in the frame of a PLY, whose floats
+/// step by 6e-5 m there, and its union was tried again: 3.4 s for the model instead of 2.2 s.) Then
+/// the longest edge (in weld distances) such a collapse may remove.
+constexpr int kFlatRounds = 4;
 constexpr int kSliverRounds = 12;
 constexpr int kSliverStall = 2;
 constexpr double kSliverEdges = 1000.0;
@@ -322,7 +327,10 @@ class Uniter {
       const std::size_t before = clean_base_ ? 0 : crossings_in(base, frame_, regions).size();
       Pairs pairs = crossings_in(mesh, frame_, regions);
       std::size_t best = pairs.size();
-      for (int round = 0, stalled = 0; round < kSliverRounds && stalled < kSliverStall && pairs.size() > before; ++round) {
+      std::optional<std::pair<TreeMesh, Pairs>> after_flat;  // where the flat rounds left it
+      for (int round = 0, stalled = 0;
+           round < kSliverRounds && (round < kFlatRounds || stalled < kSliverStall) && pairs.size() > before; ++round) {
+        if (round == kFlatRounds) after_flat.emplace(mesh, pairs);
         std::vector<std::size_t> faces;
         for (const auto& [a, b] : pairs) faces.insert(faces.end(), {a, b});
         std::sort(faces.begin(), faces.end());
@@ -334,7 +342,10 @@ class Uniter {
         stalled = pairs.size() < best ? 0 : stalled + 1;
         best = std::min(best, pairs.size());
       }
-      if (pairs.size() > before) return retry(base, std::move(pieces), mesh, pairs, boxes);
+      if (pairs.size() > before) {
+        if (after_flat) std::tie(mesh, pairs) = std::move(*after_flat);
+        return retry(base, std::move(pieces), mesh, pairs, boxes);
+      }
     }
     if (united.apart.n_faces() > 0) apart_.push_back(std::move(united.apart));
     st_.welded_edges += welded;
