@@ -11,7 +11,7 @@
 #include <thread>
 
 int main(int argc, char** argv) {
-  treeskel::cli::restart_with_huge_pages(argv);
+  treeskel::cli::restart_with_huge_pages(argv, treeskel::cli::memory_for(argc, argv));
   CLI::App app{"treeskel " TREESKEL_VERSION
                ": curve skeletons of trees from raw point clouds (Fu et al., IEEE Access 2020).\n"
                "Run 'treeskel COMMAND --help' for the options of a command."};

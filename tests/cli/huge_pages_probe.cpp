@@ -1,5 +1,5 @@
-// For huge_pages_test: restarts itself as the tool does, then prints GLIBC_TUNABLES as it is now,
-// and whether a 20 MB block comes from the heap (the 32 MB mmap threshold took effect) or from a
+// For huge_pages_test: restarts itself as the tool does (given the argument `model`, as `treeskel
+// model` does), then prints GLIBC_TUNABLES as it is now, and whether a 20 MB block comes from the heap (the 32 MB mmap threshold took effect) or from a
 // mapping of its own. (What the process started with cannot be read back: glibc rewrites the
 // variable in place at start-up, and /proc/self/environ shows the rewritten text.)
 #include "huge_pages.h"
@@ -9,8 +9,8 @@
 
 #include <unistd.h>
 
-int main(int, char** argv) {
-  treeskel::cli::restart_with_huge_pages(argv);
+int main(int argc, char** argv) {
+  treeskel::cli::restart_with_huge_pages(argv, treeskel::cli::memory_for(argc, argv));  // `probe model`: as a model
   const char* now = std::getenv("GLIBC_TUNABLES");
   void* block = std::malloc(20u << 20);
   const bool heap = static_cast<char*>(block) < static_cast<char*>(::sbrk(0));
