@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
     sweep_no_repair = std::min(sweep_no_repair, now() - t);
   }
   const modeling::MeshCheck check = modeling::check_mesh(mesh, false);
-  std::printf("| skeleton nodes | radii | mesh (with the self-intersection test) | of it: sweep (tests) / pieces / unions | mesh (no test) | triangles | valid |\n");
+  std::printf("| skeleton nodes | radii | mesh (with the self-intersection test) | of it: sweep (tests) / pieces / unions | mesh (no repair: those limbs left out) | triangles | valid |\n");
   std::printf("|---:|---:|---:|---|---:|---:|---|\n");
   std::printf("| %zu | %.3f s | %.3f s | %.3f (%.3f) / %.3f / %.3f s | %.3f s | %zu | %s |\n\n", skeleton.node_count(), radii, sweep,
               stats.sweep_seconds, stats.test_seconds, stats.pieces_seconds, stats.union_seconds, sweep_no_repair,
