@@ -240,7 +240,7 @@ class Uniter {
       std::vector<Skeleton> apart;
       Skeleton kept;
       try {
-        TreeMesh mesh = sweep_part(piece, o_, frame_, scale_, piece_stats, apart, &kept);
+        TreeMesh mesh = sweep_part(piece, o_, frame_, scale_, piece_stats, apart, &kept, BaseCap::hidden);
         if (o_.repair && piece_stats.self_intersections > 0) throw Error("the piece crosses itself");
         // A sweep that kept no segment, or left apart a piece as large as this one, made no
         // progress (the loop would sweep the same piece again and again): split it instead.

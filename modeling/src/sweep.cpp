@@ -99,6 +99,11 @@ constexpr double kRoomyChain = 4.0;
 /// floats folds it into its neighbour, which no short edge's collapse clears (two straight limbs
 /// crossing, each a single band: a fold 0.5 m long).
 constexpr double kLongestBandShare = 0.02;
+/// A piece's base cap (BaseCap::hidden): its apex this many radii into the tube from its first ring,
+/// and this many aside, toward where the branch goes turned by kHiddenBaseTurn (radians) about the axis.
+constexpr double kHiddenBaseDepth = 0.25;
+constexpr double kHiddenBaseAside = 0.25;
+constexpr double kHiddenBaseTurn = 0.5;
 
 using UnionFind = DisjointSets<std::size_t>;
 
@@ -108,9 +113,10 @@ class Builder {
 
   /// `fused`: pairs of forks (ids of `sk`) to make one join from the start (see sweep_attached).
   /// `longest_band`: the longest a band of a tube may run between two rings (0: no limit).
+  /// `base`: how the root's branch is closed where no join holds the root.
   Builder(const Skeleton& sk, const SweepOptions& o, HullCache& hulls, double longest_band,
-          std::vector<std::pair<NodeId, NodeId>> fused = {})
-      : sk_(sk), o_(o), t_(build_chains(sk)), hulls_(&hulls), fused_(std::move(fused)) {
+          std::vector<std::pair<NodeId, NodeId>> fused = {}, detail::BaseCap base = detail::BaseCap::flat)
+      : sk_(sk), o_(o), t_(build_chains(sk)), hulls_(&hulls), fused_(std::move(fused)), base_(base) {
     rule_.spacing = o.ring_spacing;
     rule_.max_turn = o.max_turn;
     rule_.longest_band = longest_band;
@@ -523,6 +529,18 @@ class Builder {
       } else {
         tube.base = true;
         first = ring_at(pl, 0.0, sides);
+        tube.base_centre = first.centre;
+        if (base_ == detail::BaseCap::hidden) {
+          Vector3d aside = pl.p.back() - first.centre;
+          aside -= aside.dot(first.normal) * first.normal;
+          const double n = aside.norm();
+          if (n > eps_) aside /= n;
+          else aside.setZero();
+          // Turned about the axis: two limbs that leave a fork as mirror images would otherwise have
+          // mirror-image apexes, and a ring edge across the mirror would lie in both cones' faces.
+          aside = std::cos(kHiddenBaseTurn) * aside + std::sin(kHiddenBaseTurn) * first.normal.cross(aside);
+          tube.base_centre += first.radius * (kHiddenBaseAside * aside + kHiddenBaseDepth * first.normal);
+        }
       }
       // Last ring: at the join, or before the tip.
       double s1;
@@ -606,6 +624,7 @@ class Builder {
   std::vector<int> thinned_;  // per chain: times thinned in this build
   std::vector<bool> straightened_;  // per chain: swept straight from fork to fork in this build
   std::vector<std::pair<NodeId, NodeId>> fused_;
+  detail::BaseCap base_;
   double max_radius_ = 0.0;
   std::vector<bool> absorbed_;  // per chain: a twig left inside its join's hull
   std::vector<std::array<double, 2>> ring_neck_;  // per chain: neck factor of those rings
@@ -619,7 +638,7 @@ class Builder {
 /// left no room for are not swept here: their nodes go to `detached`, for `sweep_mesh` to sweep
 /// apart and unite with this mesh. `swept` tells, by node, whether the mesh holds it.
 TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, const Vector3d& frame, const detail::TreeScale& whole,
-                        SweepStats& st, std::vector<NodeId>& detached, std::vector<char>& swept) {
+                        SweepStats& st, std::vector<NodeId>& detached, std::vector<char>& swept, detail::BaseCap base) {
   const ChainTree tree = build_chains(skeleton);
   const auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
@@ -681,7 +700,7 @@ TreeMesh sweep_attached(const Skeleton& skeleton, const SweepOptions& options, c
     for (const auto& [x, y] : thinning.fused())
       if (pruned_of[x] >= 0 && pruned_of[y] >= 0)
         fuse.emplace_back(static_cast<NodeId>(pruned_of[x]), static_cast<NodeId>(pruned_of[y]));
-    Builder builder(pruned, options, hulls, whole.longest_band, std::move(fuse));
+    Builder builder(pruned, options, hulls, whole.longest_band, std::move(fuse), base);
     Attempt a = builder.run();
     st.branches = a.branches;
     st.junctions = a.junctions;
@@ -801,7 +820,8 @@ Skeleton kept_part(const Skeleton& shape, const ChainTree& tree, const std::vect
 }  // namespace
 
 TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& options, const Eigen::Vector3d& frame,
-                            const TreeScale& scale, SweepStats& st, std::vector<Skeleton>& apart, Skeleton* kept) {
+                            const TreeScale& scale, SweepStats& st, std::vector<Skeleton>& apart, Skeleton* kept,
+                            BaseCap base) {
   const ChainTree tree = build_chains(skeleton);
   const auto& g = skeleton.graph;
   const std::size_t n = boost::num_vertices(g);
@@ -835,7 +855,7 @@ TreeMesh detail::sweep_part(const Skeleton& skeleton, const SweepOptions& option
 
   std::vector<NodeId> detached;
   std::vector<char> swept;
-  TreeMesh mesh = sweep_attached(shape, o, frame, scale, st, detached, swept);
+  TreeMesh mesh = sweep_attached(shape, o, frame, scale, st, detached, swept, base);
   if (!detached.empty() && !options.unite_apart) {
     std::vector<bool> cut(n, false);
     for (NodeId v : detached) cut[v] = true;

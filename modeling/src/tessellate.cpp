@@ -98,8 +98,8 @@ void tessellate(const std::vector<Join>& joins, const std::vector<Tube>& tubes, 
     std::vector<std::size_t> ids;
     if (tube.base) {
       ids.push_back(add_ring(vertices, tube.rings.front()));
-      begin_part({ids[0]}, {tube.rings.front().centre, tube.rings.front().centre, radius, tube_id});
-      vertices.push_back(tube.rings.front().centre);
+      begin_part({ids[0]}, {tube.rings.front().centre, tube.base_centre, radius, tube_id});
+      vertices.push_back(tube.base_centre);
       const std::size_t centre = vertices.size() - 1;
       for (int k = 0; k < sides; ++k) add_face(ids[0] + (k + 1) % sides, ids[0] + k, centre, owner, radius);
     } else {

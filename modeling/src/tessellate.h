@@ -31,6 +31,7 @@ struct Tube {
   std::size_t first_vertex = 0, last_vertex = 0;  ///< join ring vertices (when not base / tip)
   std::ptrdiff_t start_join = -1, end_join = -1;  ///< index of the join at either end
   double apex_height = 0.0;  ///< of the tip's cone, along the last ring's normal
+  Eigen::Vector3d base_centre = Eigen::Vector3d::Zero();  ///< the base cap's centre (the first ring's: flat)
 };
 
 /// A join's rings (one per arm) and the vertices they were given.

@@ -1,5 +1,6 @@
 // The limbs swept apart and united with the tree (modeling/src/pieces.h, private to the library).
 #include "../../modeling/src/pieces.h"
+#include "../../modeling/src/skeleton_parts.h"
 #include "model_fixtures.h"
 
 #include <gtest/gtest.h>
@@ -211,6 +212,62 @@ TEST(Pieces, APieceTellsItsLimbsByTheWholeTree) {
   }
   EXPECT_GT(thinned[0], static_cast<std::size_t>(o.max_shrinks));   // a limb of its piece
   EXPECT_LE(thinned[1], static_cast<std::size_t>(o.max_shrinks));   // a twig of the tree
+}
+
+// Two limbs swept apart from one fork start at one point of their parent's path (piece_of): with
+// flat base caps their discs lie in one plane and overlap, which corefinement works through in exact
+// numbers; a piece's base (BaseCap::hidden) is a shallow cone into its tube, aside toward where its
+// limb goes, so the two share no face's plane. Each piece stays closed and free of crossings.
+TEST(Pieces, SiblingPiecesShareNoBasePlane) {
+  const Skeleton y = test::y_shape(0.05, 0.6, 20);
+  const ChainTree tree = build_chains(y);
+  const Skeleton a = piece_of(y, tree, 21), b = piece_of(y, tree, 41);
+  ASSERT_LT((a[a.root].position - b[b.root].position).norm(), 1e-12);  // one start
+  auto sweep = [](const Skeleton& s, BaseCap cap) {
+    SweepStats st;
+    std::vector<Skeleton> apart;
+    TreeMesh mesh = sweep_part(s, SweepOptions{}, Eigen::Vector3d::Zero(), {1e-4, 1.0}, st, apart, nullptr, cap);
+    EXPECT_EQ(st.self_intersections, 0u);
+    EXPECT_TRUE(apart.empty());
+    const MeshCheck check = check_mesh(mesh, true);
+    EXPECT_TRUE(check.ok()) << check.problem();
+    return mesh;
+  };
+  // Faces of the base cap of `p` (across the stub's axis, at its end) that lie in the plane of a face
+  // of `q` (to 5e-11). (Their stubs' walls are one tube here, both arms as thick: not counted.)
+  auto shared_planes = [&](const TreeMesh& p, const TreeMesh& q) {
+    const Eigen::Vector3d start = a[a.root].position;
+    const Eigen::Vector3d axis = (a[*boost::adjacent_vertices(a.root, a.graph).first].position - start).normalized();
+    auto corners = [](const TreeMesh& m, TreeMesh::FaceHandle f) {
+      std::array<Eigen::Vector3d, 3> c;
+      std::size_t k = 0;
+      for (auto v : m.fv_range(f)) {
+        const auto x = m.point(v);
+        c[k++] = Eigen::Vector3d(x[0], x[1], x[2]);
+      }
+      return c;
+    };
+    std::size_t count = 0;
+    for (auto f : p.faces()) {
+      const auto c = corners(p, f);
+      if ((c[0] - start).norm() > 0.1) continue;
+      const Eigen::Vector3d n = (c[1] - c[0]).cross(c[2] - c[0]).normalized();
+      if (std::abs(n.dot(axis)) < 0.5) continue;  // a wall's face
+      for (auto g : q.faces()) {
+        const auto d = corners(q, g);
+        if ((d[0] - start).norm() > 0.1) continue;
+        if (std::all_of(d.begin(), d.end(), [&](const Eigen::Vector3d& x) { return std::abs(n.dot(x - c[0])) < 5e-11; })) ++count;
+      }
+    }
+    return count;
+  };
+  EXPECT_GT(shared_planes(sweep(a, BaseCap::flat), sweep(b, BaseCap::flat)), 0u);
+  const TreeMesh hidden_a = sweep(a, BaseCap::hidden), hidden_b = sweep(b, BaseCap::hidden);
+  EXPECT_EQ(shared_planes(hidden_a, hidden_b), 0u);
+  // The cone goes into the tube: a little less wood than the flat cap's.
+  const double flat = check_mesh(sweep(a, BaseCap::flat), false).volume, cone = check_mesh(hidden_a, false).volume;
+  EXPECT_LT(cone, flat);
+  EXPECT_GT(cone, 0.97 * flat);
 }
 
 }  // namespace
