@@ -553,16 +553,24 @@ static bool turns_a_face(const TreeMesh& mesh, TreeMesh::VertexHandle from, Tree
 namespace {
 
 /// Collapses edge `e` onto one of its ends if that keeps the mesh manifold and turns no face over.
-bool collapse_edge(TreeMesh& mesh, TreeMesh::EdgeHandle e, double weld) {
+/// The half of edge `e` whose collapse keeps the mesh manifold and turns no face over (see
+/// `collapse_edge`), or an invalid handle.
+TreeMesh::HalfedgeHandle collapsible(TreeMesh& mesh, TreeMesh::EdgeHandle e, double weld) {
   for (int side = 0; side < 2; ++side) {
     const auto h = mesh.halfedge_handle(e, side);
     if (!mesh.is_collapse_ok(h)) continue;
     const auto from = mesh.from_vertex_handle(h), to = mesh.to_vertex_handle(h);
     if (turns_a_face(mesh, from, to, mesh.point(to), weld)) continue;
-    mesh.collapse(h);
-    return true;
+    return h;
   }
-  return false;
+  return {};
+}
+
+bool collapse_edge(TreeMesh& mesh, TreeMesh::EdgeHandle e, double weld) {
+  const auto h = collapsible(mesh, e, weld);
+  if (!h.is_valid()) return false;
+  mesh.collapse(h);
+  return true;
 }
 
 }  // namespace
@@ -577,7 +585,7 @@ Eigen::AlignedBox3d bounding_box(const TreeMesh& mesh) {
 }
 
 std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_t>& faces, double max_length,
-                                   double sliver) {
+                                   double sliver, std::vector<Eigen::AlignedBox3d>* moved) {
   mesh.request_vertex_status();
   mesh.request_edge_status();
   mesh.request_face_status();
@@ -585,16 +593,33 @@ std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_
   for (std::size_t f : faces) {
     const auto fh = mesh.face_handle(static_cast<unsigned>(f));
     if (!fh.is_valid() || mesh.status(fh).deleted()) continue;
-    TreeMesh::EdgeHandle shortest;
-    double best = max_length * max_length;
+    // Its edges no longer than `max_length`, shortest first (of two as long, the later one): where
+    // the shortest may not go (its collapse would pinch the mesh or turn a face over), the next may.
+    std::array<std::pair<double, TreeMesh::EdgeHandle>, 3> edges;
+    std::size_t count = 0;
     for (auto h : mesh.fh_range(fh)) {
       const double l = mesh.calc_edge_sqr_length(mesh.edge_handle(h));
-      if (l <= best) {
-        best = l;
-        shortest = mesh.edge_handle(h);
-      }
+      if (l <= max_length * max_length) edges[count++] = {l, mesh.edge_handle(h)};
     }
-    if (shortest.is_valid() && collapse_edge(mesh, shortest, sliver)) ++done;
+    std::reverse(edges.begin(), edges.begin() + static_cast<std::ptrdiff_t>(count));
+    std::stable_sort(edges.begin(), edges.begin() + static_cast<std::ptrdiff_t>(count),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    TreeMesh::HalfedgeHandle h;
+    for (std::size_t k = 0; k < count && !h.is_valid(); ++k) h = collapsible(mesh, edges[k].second, sliver);
+    if (!h.is_valid()) continue;
+    // The faces a collapse changes are those around the end that goes, which then hold the other
+    // end: the box of the vertices around both ends holds them as they were and as they become.
+    if (moved) {
+      Eigen::AlignedBox3d around;
+      for (const auto end : {mesh.from_vertex_handle(h), mesh.to_vertex_handle(h)})
+        for (auto v : mesh.vv_range(end)) {
+          const auto p = mesh.point(v);
+          around.extend(Eigen::Vector3d(p[0], p[1], p[2]));
+        }
+      moved->push_back(around);
+    }
+    mesh.collapse(h);
+    ++done;
   }
   if (done > 0) mesh.garbage_collection();  // nothing deleted: the handles stand, and a pass costs a copy
   return done;

@@ -67,9 +67,10 @@ std::size_t weld_short_edges(TreeMesh& mesh, double weld, const std::vector<Eige
 /// For each face of `faces` (indices), collapses its shortest edge if no longer than `max_length`
 /// (where that keeps the mesh manifold and turns no face over, slivers no taller than `sliver`
 /// aside); returns how many. Rounding can
-/// leave a sliver of the union crossing its neighbour: its shortest edge is where it folds.
+/// leave a sliver of the union crossing its neighbour: its shortest edge is where it folds. With
+/// `moved`, appends for each collapse a box that holds every face it changed, before and after.
 std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_t>& faces, double max_length,
-                                   double sliver = 0.0);
+                                   double sliver = 0.0, std::vector<Eigen::AlignedBox3d>* moved = nullptr);
 
 /// Where two parts of a union touch at a single point, a vertex holds two fans of faces (each fan
 /// the faces around it that share edges), which OpenMesh cannot hold (it would drop faces and leave

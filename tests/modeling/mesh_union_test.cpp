@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace treeskel::modeling {
@@ -252,6 +253,73 @@ TreeMesh box_mesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
     mesh.add_face(v[q[0]], v[q[2]], v[q[3]]);
   }
   return mesh;
+}
+
+/// The faces of `mesh` as their corner positions (each face's sorted), sorted.
+std::vector<std::array<std::array<double, 3>, 3>> sorted_faces(const TreeMesh& mesh) {
+  std::vector<std::array<std::array<double, 3>, 3>> out;
+  for (auto f : mesh.faces()) {
+    std::array<std::array<double, 3>, 3> c{};
+    std::size_t k = 0;
+    for (auto v : mesh.fv_range(f)) {
+      const auto p = mesh.point(v);
+      c[k++] = {p[0], p[1], p[2]};
+    }
+    std::sort(c.begin(), c.end());
+    out.push_back(c);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The sliver rounds after a union test again only where a collapse changed the mesh: each collapse
+// gives a box that holds every face it changed, as it was and as it became.
+TEST(MeshUnion, EachCollapseSaysWhereItChangedTheMesh) {
+  TreeMesh mesh = sweep_mesh(test::y_shape(0.05, 0.6, 20));
+  const auto before = sorted_faces(mesh);
+  std::vector<std::size_t> faces;
+  for (std::size_t f = 0; f < mesh.n_faces(); f += 97) faces.push_back(f);
+  std::vector<Eigen::AlignedBox3d> moved;
+  const std::size_t collapsed = detail::collapse_shortest_edges(mesh, faces, 1.0, 0.0, &moved);
+  EXPECT_GT(collapsed, 10u);
+  EXPECT_EQ(moved.size(), collapsed);
+  expect_valid(mesh);
+  const auto after = sorted_faces(mesh);
+  auto held = [&](const std::array<std::array<double, 3>, 3>& c) {
+    return std::any_of(moved.begin(), moved.end(), [&](const Eigen::AlignedBox3d& b) {
+      return std::all_of(c.begin(), c.end(), [&](const std::array<double, 3>& p) { return b.contains(Eigen::Vector3d(p[0], p[1], p[2])); });
+    });
+  };
+  std::size_t changed = 0;
+  for (const auto& c : after)
+    if (!std::binary_search(before.begin(), before.end(), c)) {
+      ++changed;
+      EXPECT_TRUE(held(c));
+    }
+  for (const auto& c : before)
+    if (!std::binary_search(after.begin(), after.end(), c)) EXPECT_TRUE(held(c));
+  EXPECT_GT(changed, 0u);
+}
+
+// Where a face's shortest edge may not collapse (its ends have three neighbours in common, and the
+// collapse would pinch the mesh), its next edge does: a bipyramid's equator edge is the shortest.
+TEST(MeshUnion, AFaceWhoseShortestEdgeMayNotGoLosesItsNext) {
+  TreeMesh mesh;
+  const double h = 1.0;
+  std::vector<TreeMesh::VertexHandle> v;
+  for (int k = 0; k < 3; ++k)
+    v.push_back(mesh.add_vertex(TreeMesh::Point(std::cos(2.0944 * k) / std::sqrt(3.0), std::sin(2.0944 * k) / std::sqrt(3.0), 0.0)));
+  const auto top = mesh.add_vertex(TreeMesh::Point(0, 0, h)), bottom = mesh.add_vertex(TreeMesh::Point(0, 0, -h));
+  for (int k = 0; k < 3; ++k) {
+    mesh.add_face(v[k], v[(k + 1) % 3], top);
+    mesh.add_face(v[(k + 1) % 3], v[k], bottom);
+  }
+  ASSERT_TRUE(check_mesh(mesh, false).ok());
+  // Face 0 is (v0, v1, top); its shortest edge v0-v1 (length 1) has v2, top and bottom around both ends.
+  EXPECT_EQ(detail::collapse_shortest_edges(mesh, {0}, 1.1), 0u);  // the only edge no longer than 1.1
+  EXPECT_EQ(detail::collapse_shortest_edges(mesh, {0}, 2.0), 1u);
+  EXPECT_EQ(mesh.n_faces(), 4u);  // a tetrahedron
+  expect_valid(mesh);
 }
 
 // Pieces that close a pocket of air with the tree leave its inward surface as a component of its
