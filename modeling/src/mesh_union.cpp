@@ -552,9 +552,8 @@ static bool turns_a_face(const TreeMesh& mesh, TreeMesh::VertexHandle from, Tree
 
 namespace {
 
-/// Collapses edge `e` onto one of its ends if that keeps the mesh manifold and turns no face over.
-/// The half of edge `e` whose collapse keeps the mesh manifold and turns no face over (see
-/// `collapse_edge`), or an invalid handle.
+/// The half of edge `e` whose collapse (its start onto its end) keeps the mesh manifold and turns no
+/// face over, or an invalid handle.
 TreeMesh::HalfedgeHandle collapsible(TreeMesh& mesh, TreeMesh::EdgeHandle e, double weld) {
   for (int side = 0; side < 2; ++side) {
     const auto h = mesh.halfedge_handle(e, side);
@@ -566,6 +565,7 @@ TreeMesh::HalfedgeHandle collapsible(TreeMesh& mesh, TreeMesh::EdgeHandle e, dou
   return {};
 }
 
+/// Collapses edge `e` onto one of its ends if that keeps the mesh manifold and turns no face over.
 bool collapse_edge(TreeMesh& mesh, TreeMesh::EdgeHandle e, double weld) {
   const auto h = collapsible(mesh, e, weld);
   if (!h.is_valid()) return false;

@@ -64,11 +64,11 @@ Eigen::AlignedBox3d bounding_box(const TreeMesh& mesh);
 /// non-manifold spot.
 std::size_t weld_short_edges(TreeMesh& mesh, double weld, const std::vector<Eigen::AlignedBox3d>& where = {});
 
-/// For each face of `faces` (indices), collapses its shortest edge if no longer than `max_length`
-/// (where that keeps the mesh manifold and turns no face over, slivers no taller than `sliver`
-/// aside); returns how many. Rounding can
-/// leave a sliver of the union crossing its neighbour: its shortest edge is where it folds. With
-/// `moved`, appends for each collapse a box that holds every face it changed, before and after.
+/// For each face of `faces` (indices), collapses its shortest edge no longer than `max_length`
+/// whose collapse keeps the mesh manifold and turns no face over (slivers no taller than `sliver`
+/// aside); returns how many. Rounding can leave a sliver of the union crossing its neighbour: its
+/// shortest edge is where it folds. With `moved`, appends for each collapse a box that holds every
+/// face it changed, before and after.
 std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_t>& faces, double max_length,
                                    double sliver = 0.0, std::vector<Eigen::AlignedBox3d>* moved = nullptr);
 

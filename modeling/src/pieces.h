@@ -28,11 +28,11 @@ enum class BaseCap {
   flat,  ///< a disc across the tube: the tree's own base, on the ground
   /// A shallow cone, its apex a quarter of a radius into the tube from its first ring and as much
   /// aside, toward where the branch goes (turned a little about the axis): a piece's base, inside
-  /// its parent where the union removes it. Two limbs swept apart from one fork start at one point of their parent's path (`piece_of`),
-  /// and flat discs there lay in one plane: corefinement went through their overlap in exact
-  /// numbers (0.1-0.2 s a union of two such pieces of a few thousand faces on AdTree's Lille_2,
-  /// where the others took a few milliseconds). The cones of two limbs that leave apart do not
-  /// share a face's plane.
+  /// its parent where the union removes it. Two limbs swept apart from one fork start at one point
+  /// of their parent's path (`piece_of`), and flat discs there lay in one plane: corefinement went
+  /// through their overlap in exact numbers (0.1-0.2 s a union of two such pieces of a few thousand
+  /// faces on AdTree's Lille_2, where the others took a few milliseconds). The cones of two limbs
+  /// that leave apart do not share a face's plane.
   hidden,
 };
 
