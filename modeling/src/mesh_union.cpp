@@ -584,6 +584,16 @@ Eigen::AlignedBox3d bounding_box(const TreeMesh& mesh) {
   return box;
 }
 
+std::vector<std::size_t> faces_around(const TreeMesh& mesh, const std::vector<std::size_t>& faces) {
+  std::vector<std::size_t> out(faces);
+  for (std::size_t f : faces)
+    for (auto v : mesh.fv_range(mesh.face_handle(static_cast<unsigned>(f))))
+      for (auto g : mesh.vf_range(v)) out.push_back(static_cast<std::size_t>(g.idx()));
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_t>& faces, double max_length,
                                    double sliver, std::vector<Eigen::AlignedBox3d>* moved) {
   mesh.request_vertex_status();

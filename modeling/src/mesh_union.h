@@ -72,6 +72,10 @@ std::size_t weld_short_edges(TreeMesh& mesh, double weld, const std::vector<Eige
 std::size_t collapse_shortest_edges(TreeMesh& mesh, const std::vector<std::size_t>& faces, double max_length,
                                    double sliver = 0.0, std::vector<Eigen::AlignedBox3d>* moved = nullptr);
 
+/// The faces `faces` (indices) and every face that shares a vertex with one of them, in order of
+/// their indices, each once.
+std::vector<std::size_t> faces_around(const TreeMesh& mesh, const std::vector<std::size_t>& faces);
+
 /// Where two parts of a union touch at a single point, a vertex holds two fans of faces (each fan
 /// the faces around it that share edges), which OpenMesh cannot hold (it would drop faces and leave
 /// holes): the fan of the vertex's first face keeps it, and each other fan, in the order of its

@@ -333,6 +333,10 @@ class Uniter {
         if (round == kFlatRounds) after_flat.emplace(mesh, pairs);
         std::vector<std::size_t> faces;
         for (const auto& [a, b] : pairs) faces.insert(faces.end(), {a, b});
+        // After a round without progress, the faces around the crossing ones go too (AdTree's Lille_2
+        // as PLY stalled at two crossings of faces a few millimetres across, and its union was made
+        // again: 46 corefinements instead of 23).
+        if (stalled > 0) faces = faces_around(mesh, faces);
         std::sort(faces.begin(), faces.end());
         faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
         // Once rounded, only a face a collapse changed, or one that crossed before, can cross: the

@@ -322,6 +322,23 @@ TEST(MeshUnion, AFaceWhoseShortestEdgeMayNotGoLosesItsNext) {
   expect_valid(mesh);
 }
 
+// A sliver round that made no progress takes the faces around the crossing ones too: on a box, the
+// faces that share a corner with one of its triangles.
+TEST(MeshUnion, FacesAroundAreThoseSharingACorner) {
+  const TreeMesh box = box_mesh(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
+  const auto around = detail::faces_around(box, {0});
+  std::vector<std::size_t> expected;
+  for (auto f : box.faces()) {
+    bool shares = false;
+    for (auto v : box.fv_range(f))
+      for (auto w : box.fv_range(box.face_handle(0u))) shares = shares || v == w;
+    if (shares) expected.push_back(static_cast<std::size_t>(f.idx()));
+  }
+  EXPECT_EQ(around, expected);
+  EXPECT_LT(around.size(), box.n_faces());  // not every face: the far corner's are left
+  EXPECT_EQ(detail::faces_around(box, {3, 3}), detail::faces_around(box, {3}));
+}
+
 // Pieces that close a pocket of air with the tree leave its inward surface as a component of its
 // own (seed 4's tree5_missing_3: a tetrahedron 0.1 mm across); wood has no voids, and it is filled.
 TEST(MeshUnion, AVoidThePiecesEncloseIsFilled) {
