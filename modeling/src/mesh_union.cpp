@@ -698,20 +698,12 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
   // one another are united among themselves first, and the groups, which neither cross nor hold one
   // another, go into one corefinement with the whole. (Uniting every two pieces whose boxes overlap,
   // without testing them exactly, cost twice as much on AdTree's tree1: the unions are not cheap.)
-  DisjointSets<std::size_t> linked(pieces.size());
   Overlaps overlap(pieces);
-  for (std::size_t a = 0; a < usable.size(); ++a)
-    for (std::size_t b = a + 1; b < usable.size(); ++b) {
-      const std::size_t i = usable[a], j = usable[b];
-      if (linked.find(i) != linked.find(j) && boxes[i].intersects(boxes[j]) && overlap(i, j)) linked.unite(i, j);
-    }
   Whole whole(base, boxes, overlap);
   struct Group {
     Surface surface;
     std::vector<std::size_t> members;  // the pieces united into it
   };
-  std::vector<Group> groups;
-  std::vector<std::ptrdiff_t> group_of(pieces.size(), -1);
   std::vector<std::size_t> alone;  // pieces their group's union refused, united with the whole alone
   // A budget: points made by one union and cut again by the next hold ever longer exact numbers,
   // and a leafy crown whose twigs all cross one another made a group's unions run for minutes. A
@@ -731,77 +723,99 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
     --budget;
     return whole.unite(std::move(piece), members, out.batches);
   };
-  // The pieces of each group, in order: the first starts the group, the others are united into it.
-  std::vector<std::vector<std::size_t>> candidates;
-  for (std::size_t i : usable) {
-    auto& g = group_of[linked.find(i)];
-    if (g < 0) {
-      g = static_cast<std::ptrdiff_t>(candidates.size());
-      candidates.emplace_back();
+  // In rounds: the pieces a full group left over make groups of their own in the next round, again
+  // one corefinement with the whole, as long as each round leaves fewer. (Left to the layers below,
+  // the three that AdTree's tree1 left over took two corefinements of its 72k-face mesh, and Lille_11
+  // two of 140k faces.)
+  std::vector<std::size_t> round = usable;
+  for (bool again = true; again;) {
+    // The pieces that cross or hold one another are linked.
+    DisjointSets<std::size_t> linked(pieces.size());
+    for (std::size_t a = 0; a < round.size(); ++a)
+      for (std::size_t b = a + 1; b < round.size(); ++b) {
+        const std::size_t i = round[a], j = round[b];
+        if (linked.find(i) != linked.find(j) && boxes[i].intersects(boxes[j]) && overlap(i, j)) linked.unite(i, j);
+      }
+    std::vector<Group> groups;
+    std::vector<std::ptrdiff_t> group_of(pieces.size(), -1);
+    std::vector<std::size_t> left_over;  // the pieces this round's groups did not take
+    // The pieces of each group, in order: the first starts the group, the others are united into it.
+    std::vector<std::vector<std::size_t>> candidates;
+    for (std::size_t i : round) {
+      auto& g = group_of[linked.find(i)];
+      if (g < 0) {
+        g = static_cast<std::ptrdiff_t>(candidates.size());
+        candidates.emplace_back();
+      }
+      candidates[static_cast<std::size_t>(g)].push_back(i);
     }
-    candidates[static_cast<std::size_t>(g)].push_back(i);
-  }
-  groups.resize(candidates.size());
-  std::size_t most = 0;  // unions the groups may need
-  for (const auto& c : candidates) most += c.size() - 1;
-  if (most <= budget) {
-    // Within the budget, the groups are made side by side: no group's unions depend on another's.
-    std::vector<std::vector<std::size_t>> left(groups.size());
-    std::vector<std::size_t> attempts(groups.size(), 0);
-    tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
-      const auto& c = candidates[g];
-      groups[g] = {surfaces[c.front()], {c.front()}};
-      for (std::size_t k = 1; k < c.size(); ++k) {
-        if (groups[g].members.size() < kMaxGroup) {
-          ++attempts[g];
-          if (unite_into(groups[g].surface, surfaces[c[k]])) {
-            groups[g].members.push_back(c[k]);
+    groups.resize(candidates.size());
+    std::size_t most = 0;  // unions the groups may need
+    for (const auto& c : candidates) most += c.size() - 1;
+    if (most <= budget) {
+      // Within the budget, the groups are made side by side: no group's unions depend on another's.
+      std::vector<std::vector<std::size_t>> left(groups.size());
+      std::vector<std::size_t> attempts(groups.size(), 0);
+      tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+        const auto& c = candidates[g];
+        groups[g] = {surfaces[c.front()], {c.front()}};
+        for (std::size_t k = 1; k < c.size(); ++k) {
+          if (groups[g].members.size() < kMaxGroup) {
+            ++attempts[g];
+            if (unite_into(groups[g].surface, surfaces[c[k]])) {
+              groups[g].members.push_back(c[k]);
+              continue;
+            }
+          }
+          left[g].push_back(c[k]);
+        }
+      });
+      for (std::size_t g = 0; g < groups.size(); ++g) {
+        left_over.insert(left_over.end(), left[g].begin(), left[g].end());
+        budget -= attempts[g];
+        out.batches += attempts[g];
+      }
+      std::sort(left_over.begin(), left_over.end());  // in the order of the pieces, as one at a time
+    } else {
+      // The budget may run out: one piece at a time, in their order, each drawing on it.
+      for (std::size_t g = 0; g < groups.size(); ++g) groups[g] = {surfaces[candidates[g].front()], {candidates[g].front()}};
+      for (std::size_t i : round) {
+        auto& into = groups[static_cast<std::size_t>(group_of[linked.find(i)])];
+        if (into.members.front() == i) continue;
+        if (into.members.size() < kMaxGroup && try_unite(into.surface, surfaces[i])) into.members.push_back(i);
+        else left_over.push_back(i);
+      }
+    }
+    bool taken = false;  // the whole took this round's groups in one corefinement
+    if (!groups.empty()) {
+      Surface together;
+      std::vector<std::size_t> members;
+      for (const auto& g : groups) {
+        together.join(g.surface);
+        members.insert(members.end(), g.members.begin(), g.members.end());
+      }
+      if (whole.unite(std::move(together), members, out.batches)) {
+        out.united += members.size();
+        taken = true;
+      } else {
+        // One group at a time, and the pieces of a group the whole refuses one at a time.
+        for (const auto& g : groups) {
+          if (groups.size() > 1 && budget == 0) {
+            out.skipped += g.members.size();
             continue;
           }
+          if (groups.size() > 1 && try_unite_whole(g.surface, g.members)) {
+            out.united += g.members.size();
+            continue;
+          }
+          if (g.members.size() > 1) left_over.insert(left_over.end(), g.members.begin(), g.members.end());
+          else keep_apart(g.surface, 1);
         }
-        left[g].push_back(c[k]);
-      }
-    });
-    for (std::size_t g = 0; g < groups.size(); ++g) {
-      alone.insert(alone.end(), left[g].begin(), left[g].end());
-      budget -= attempts[g];
-      out.batches += attempts[g];
-    }
-    std::sort(alone.begin(), alone.end());  // in the order of the pieces, as one at a time
-  } else {
-    // The budget may run out: one piece at a time, in their order, each drawing on it.
-    for (std::size_t g = 0; g < groups.size(); ++g) groups[g] = {surfaces[candidates[g].front()], {candidates[g].front()}};
-    for (std::size_t i : usable) {
-      auto& into = groups[static_cast<std::size_t>(group_of[linked.find(i)])];
-      if (into.members.front() == i) continue;
-      if (into.members.size() < kMaxGroup && try_unite(into.surface, surfaces[i])) into.members.push_back(i);
-      else alone.push_back(i);
-    }
-  }
-  if (!groups.empty()) {
-    Surface together;
-    std::vector<std::size_t> members;
-    for (const auto& g : groups) {
-      together.join(g.surface);
-      members.insert(members.end(), g.members.begin(), g.members.end());
-    }
-    if (whole.unite(std::move(together), members, out.batches)) {
-      out.united += members.size();
-    } else {
-      // One group at a time, and the pieces of a group the whole refuses one at a time.
-      for (const auto& g : groups) {
-        if (groups.size() > 1 && budget == 0) {
-          out.skipped += g.members.size();
-          continue;
-        }
-        if (groups.size() > 1 && try_unite_whole(g.surface, g.members)) {
-          out.united += g.members.size();
-          continue;
-        }
-        if (g.members.size() > 1) alone.insert(alone.end(), g.members.begin(), g.members.end());
-        else keep_apart(g.surface, 1);
       }
     }
+    again = taken && left_over.size() >= 2 && left_over.size() < round.size() && budget > 0;
+    if (again) round = std::move(left_over);
+    else alone = std::move(left_over);
   }
   // The pieces left to unite with the whole (a group was full, or refused them) go in layers: in one
   // layer no two boxes overlap, so its pieces neither cross nor hold one another and the layer is

@@ -79,6 +79,37 @@ TEST(MeshUnion, PiecesThatCrossAreUnitedTogetherFirst) {
   expect_valid(united.mesh);
 }
 
+/// The mesh of a straight branch from `from` to `to`, `radius` thick.
+TreeMesh rod(const Eigen::Vector3d& from, const Eigen::Vector3d& to, double radius) {
+  Skeleton s;
+  SkeletonNode a;
+  a.position = from;
+  a.radius = radius;
+  s.root = add_node(s, a);
+  test::add_run(s, s.root, to, radius, 8);
+  return sweep_mesh(s);
+}
+
+// More crossing pieces than a group takes: a thick bar through nine thin limbs that pass one
+// another close by without touching. The bar's group takes seven of them; the two left over make
+// a round of their own, one corefinement with the whole, where two layers took two (their boxes
+// overlap, though the limbs do not meet).
+TEST(MeshUnion, PiecesAFullGroupLeavesMakeARoundOfTheirOwn) {
+  const TreeMesh trunk = sweep_mesh(test::straight(2.2, 0.1, 22));
+  std::vector<TreeMesh> pieces{rod(Eigen::Vector3d(0, 0, 1.0), Eigen::Vector3d(1.5, 0, 1.0), 0.15)};
+  for (int i = 0; i < 9; ++i) {
+    // Side by side, a little apart; the last two in one plane, so that their boxes overlap.
+    const double z = 1.2 + 0.1 * i, y = i % 2 || i == 8 ? 0.05 : -0.05;
+    pieces.push_back(rod(Eigen::Vector3d(0, y, z), Eigen::Vector3d(1.2, y, z - 1.2), 0.03));
+  }
+  const auto united = detail::unite(trunk, pieces, 1e-6 * 2.2);
+  EXPECT_EQ(united.united, 10u);
+  EXPECT_EQ(united.failed, 0u);
+  EXPECT_EQ(united.skipped, 0u);
+  EXPECT_EQ(united.batches, 9u);  // seven into the bar's group, it with the trunk, then the two left
+  expect_valid(united.mesh);
+}
+
 // The sweep of a tree can leave every branch apart and hold nothing itself (seed 2's
 // tree1_vdensity_3 did: its first union then read the side of a point in an empty mesh, and crashed).
 // United with nothing, the pieces are the whole: one closed mesh of both, none left apart.
