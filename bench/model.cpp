@@ -84,8 +84,11 @@ int main(int argc, char** argv) {
     t = now();
     modeling::SweepStats st;
     mesh = modeling::sweep_mesh(s, {}, &st);
-    if (now() - t < sweep) stats = st;
-    sweep = std::min(sweep, now() - t);
+    const double took = now() - t;
+    if (took < sweep) {
+      sweep = took;
+      stats = st;
+    }
     modeling::SweepOptions fast;
     fast.repair = false;
     t = now();
