@@ -336,9 +336,12 @@ class Uniter {
         // After a round without progress, the faces around the crossing ones go too (AdTree's Lille_2
         // as PLY stalled at two crossings of faces a few millimetres across, and its union was made
         // again: 46 corefinements instead of 23).
-        if (stalled > 0) faces = faces_around(mesh, faces);
-        std::sort(faces.begin(), faces.end());
-        faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+        if (stalled > 0) {
+          faces = faces_around(mesh, faces);  // in order, each once
+        } else {
+          std::sort(faces.begin(), faces.end());
+          faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+        }
         // Once rounded, only a face a collapse changed, or one that crossed before, can cross: the
         // next test is of the faces near those (their boxes grown by the slack), not of the whole
         // region the union changed (each round's test cost 0.08-0.1 s on AdTree's Lille_2 and
