@@ -63,6 +63,10 @@ void for_stub_grid(const Vector3d& centre, double reach, Visit&& visit) {
       }
 }
 
+/// The turns of a piece's axis its tube is taken to cut across when testing whether the tube meets
+/// the mesh (see piece_of), as the greatest cosine between the directions in and out: 90 degrees.
+constexpr double kCutTurnCos = 0.0;
+
 /// The turn into the branch a stub may make at its fork, as the least cosine between the stub's
 /// direction and the branch's: 117 degrees, short of the 120 the tube drops (see tube.h).
 constexpr double kStubTurnCos = -0.45;
@@ -282,14 +286,29 @@ Skeleton piece_of(const Skeleton& skeleton, const ChainTree& tree, NodeId top, c
         if (depth(a + (b - a) * (static_cast<double>(i) / steps)) > -r) return true;
       return false;
     };
+    // The axis from the stub's end through the fork to the branch's first node, without the corners
+    // the tube cuts across (kCutTurnCos). (A fork of seed 1's tree2_noise_1,
+    // completed with --complete-all, lay 0.7 mm inside the mesh, its stub doubled back along a
+    // parent that zigzagged outside it, and the branch turned back by 117 degrees: the axis met the
+    // mesh at the fork only, the tube cut that corner, and the piece was written beside the tree.)
     auto meets = [&] {
-      Vector3d last = at_fork;
-      for (const Vector3d& p : path) {
-        if (segment_meets(last, p, radius)) return true;
-        last = p;
+      std::vector<Vector3d> axis(path.rbegin(), path.rend());
+      axis.push_back(at_fork);
+      std::vector<Vector3d> kept{axis.front()};
+      const Vector3d& first = skeleton[chain[1]].position;
+      for (std::size_t i = 1; i < axis.size(); ++i) {
+        const Vector3d& next = i + 1 < axis.size() ? axis[i + 1] : first;
+        const Vector3d in = axis[i] - kept.back(), out = next - axis[i];
+        if (in.dot(out) >= kCutTurnCos * in.norm() * out.norm()) kept.push_back(axis[i]);
       }
+      for (std::size_t i = 0; i + 1 < kept.size(); ++i)
+        if (segment_meets(kept[i], kept[i + 1], radius)) return true;
+      // To the branch's first node: from the fork at the branch's radius, as before; from the stub
+      // across a cut corner at the stub's.
+      if (segment_meets(kept.back(), first, kept.back() == at_fork ? skeleton[chain[1]].radius : radius)) return true;
       for (NodeId v : branch)
-        if (segment_meets(skeleton[tree.parent[v]].position, skeleton[v].position, skeleton[v].radius)) return true;
+        if (v != chain[1] && segment_meets(skeleton[tree.parent[v]].position, skeleton[v].position, skeleton[v].radius))
+          return true;
       return false;
     };
     // The parent's mesh may not reach the fork: its tube cuts across a turn of more than 120

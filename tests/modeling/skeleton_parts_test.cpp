@@ -399,6 +399,48 @@ TEST(SkeletonParts, AStubIntoABranchThatRunsBackAlongItsParentComesFromBehindThe
   EXPECT_EQ(deep[deep.root].position, plain[plain.root].position);
 }
 
+// A mesh that the piece's axis meets at the fork alone, where the branch turns by more than 90
+// degrees from the stub: its tube cuts that corner and would meet nothing (seed 1's tree2_noise_1,
+// with --complete-all, wrote such a piece beside the tree). The fork does not count; the stub goes
+// into the mesh instead.
+TEST(SkeletonParts, AStubDoesNotCountAForkItsTubeCutsAcross) {
+  Skeleton s = test::straight(1.0, 0.05, 20);
+  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
+  test::add_run(s, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
+  // A thin branch that turns by 110 degrees from the stem below (not the hairpin of 120 or more that
+  // keeps a short stub), its first node 0.1 from the fork.
+  const double turn = 110.0 * std::acos(-1.0) / 180.0;
+  const Eigen::Vector3d d(std::sin(turn), 0.0, std::cos(turn));
+  const NodeId first = test::add_run(s, fork, s[fork].position + 0.1 * d, 0.005, 1);
+  const NodeId tip = test::add_run(s, first, s[fork].position + 0.5 * d, 0.004, 8);
+  const ChainTree tree = build_chains(s);
+  const Skeleton plain = piece_of(s, tree, tip);
+  const double radius = plain[plain.root].radius;
+  ASSERT_DOUBLE_EQ(radius, 0.005);
+  ASSERT_NEAR(plain[plain.root].position.z(), 0.8, 1e-12);  // four fork radii down the stem
+  // A ball of radius 0.05 up and away from both the stem below and the branch, the fork 0.7 mm in it.
+  const Eigen::Vector3d away = Eigen::Vector3d(-0.3, 0.0, 1.0).normalized();
+  const Eigen::Vector3d centre = s[fork].position + (0.05 - 0.0007) * away;
+  const auto ball = [centre](const Eigen::Vector3d& p) { return 0.05 - (p - centre).norm(); };
+  ASSERT_NEAR(ball(s[fork].position), 0.0007, 1e-12);
+  ASSERT_LT(ball(s[first].position), -radius);  // the branch's first node lies outside, as the stub does
+  const Skeleton piece = piece_of(s, tree, tip, ball);
+  EXPECT_TRUE(is_tree(piece.graph));
+  EXPECT_NE(piece[piece.root].position, plain[plain.root].position);
+  EXPECT_GE(ball(piece[piece.root].position), radius);  // the stub starts a radius deep in the mesh
+  // A fork the branch leaves straight on from the stub (a turn under 90 degrees) still counts: the
+  // tube passes through it.
+  Skeleton t = test::straight(1.0, 0.05, 20);
+  test::add_run(t, fork, Eigen::Vector3d(0, 0, 2), 0.045, 20);
+  const Eigen::Vector3d e(std::sin(0.5), 0.0, std::cos(0.5));
+  const NodeId t_first = test::add_run(t, fork, t[fork].position + 0.1 * e, 0.005, 1);
+  const NodeId t_tip = test::add_run(t, t_first, t[fork].position + 0.5 * e, 0.004, 8);
+  const ChainTree t_tree = build_chains(t);
+  const auto at_fork = [&](const Eigen::Vector3d& p) { return 0.0007 - (p - t[fork].position).norm(); };
+  const Skeleton straight_on = piece_of(t, t_tree, t_tip, at_fork), t_plain = piece_of(t, t_tree, t_tip);
+  EXPECT_EQ(straight_on[straight_on.root].position, t_plain[t_plain.root].position);
+}
+
 TEST(SkeletonParts, ANarrowBranchIsReattachedWhereItLeavesTheThickerOne) {
   // One arm 0.1 rad (6 degrees) off the trunk's line, the other 0.6 rad: the narrow one runs inside
   // the thicker continuation for a while.
