@@ -21,6 +21,9 @@ constexpr double kSwelling = 1.1;  // a stem this much thicker at breast height 
 // share of its radius passes close to the axis itself and goes around something else (a whorl of
 // branches around a thinner stem, say).
 constexpr double kMaxCentreOffset = 0.75;
+// A trunk node's own circle widens the slice only when the node lies within this share of its radius
+// from its centre: around the node, not an arc of points on one side of it (see measure_tree).
+constexpr double kWideningOffset = 0.5;
 
 /// Diameter of a circle fitted to the cloud's points in a slice across the trunk at `at` (along
 /// `axis`): the slice spans `half` either side of it (1/13 of the breast height: 1.2 to 1.4 m for
@@ -187,13 +190,19 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
     const Eigen::Vector3d high = above ? position(above->first, above->second) : g[trunk.back()].position;
     if (!((high - low).norm() > 0.0)) return std::nullopt;
     // Twice the radius keeps the slice off nearby branches: the model's radius, or the circle fitted
-    // to the points of a trunk node within a slice's height, if that is larger and reliable. The
-    // model's can be far too small where many side chains share the trunk's cross section (ground
-    // left at the base, a crowded leader), and a slice that misses the bark fits nothing.
+    // to the points of a trunk node within a slice's height, if that is larger and reliable and the
+    // node lies in the inner half of it (its centre within kWideningOffset of its radius).
+    // The model's can be far too small where many side chains share the trunk's cross section
+    // (ground left at the base, a crowded leader), and a slice that misses the bark fits nothing. (A
+    // node of TreeLS's spruce whose outer points went to twigs grown by --complete kept an arc of 30
+    // points, a circle of 0.39 m centred 0.28 m off the trunk of 0.12 m; the slice it widened took in
+    // the branches, and the DBH came out 0.78 m instead of 0.35 m.)
     double wide = radius;
     for (NodeId v : trunk)
       if (std::abs(g[v].position.dot(up) - base - h) <= 2.0 * half)
-        if (const RadiusMeasurement fit = measure_node_radius(skeleton, *cloud, v); fit.weight > 0.0) wide = std::max(wide, fit.radius);
+        if (const RadiusMeasurement fit = measure_node_radius(skeleton, *cloud, v);
+            fit.weight > 0.0 && fit.offset <= kWideningOffset * fit.radius)
+          wide = std::max(wide, fit.radius);
     return slice_diameter(*cloud, position(i, f), (high - low).normalized(), 2.0 * wide, half);
   };
   if (const auto at = reach(target)) {

@@ -213,7 +213,9 @@ RadiusMeasurement measure_node_radius(const Skeleton& skeleton, const PointCloud
   // The circle must sit around the node: a centre farther than its own radius from the skeleton
   // is a fit to something else (a neighbouring branch, a leaf cluster).
   if (fit.radius <= 0.0 || fit.centre.norm() > fit.radius) return {};
-  return {fit.radius, is_reliable(fit, options) ? std::min(1.0, static_cast<double>(q.size()) / (3.0 * static_cast<double>(min_points))) : 0.0};
+  return {fit.radius,
+          is_reliable(fit, options) ? std::min(1.0, static_cast<double>(q.size()) / (3.0 * static_cast<double>(min_points))) : 0.0,
+          fit.centre.norm()};
 }
 
 std::vector<RadiusMeasurement> measure_node_radii(const Skeleton& skeleton, const PointCloud& cloud,

@@ -1,5 +1,6 @@
 #include "model_fixtures.h"
 #include "treeskel/modeling/measurements.h"
+#include "treeskel/modeling/radii.h"
 
 #include <gtest/gtest.h>
 
@@ -190,6 +191,42 @@ TEST(MeasureTree, DbhSliceReachesTheBarkWhereTheModelIsFarTooThin) {
   const TreeMeasurements bare = measure_tree(trunk_skeleton(0.03, 3.0, 0.0), &cloud);
   EXPECT_EQ(bare.dbh_source, DbhSource::model);
   EXPECT_NEAR(*bare.dbh, 0.06, 1e-12);
+}
+
+TEST(MeasureTree, DbhSliceIsNotWidenedByAnArcBesideTheTrunk) {
+  // A trunk of radius 0.12, sparsely scanned, and at breast height a whorl of branches whose points
+  // lie on a circle of radius 0.8 centred 0.5 from the axis. The trunk node at 1.3 m holds only the
+  // arc of that circle nearest the axis, 0.3 from it (as --complete left a node of TreeLS's spruce
+  // once its outer points went to twigs: a circle of 0.39 centred 0.28 off a trunk of 0.12). That
+  // circle goes around the whorl, not the node: it must not widen the slice (which then fits the
+  // whole whorl, and the DBH is taken under that "swelling"), and the slice at breast height fits
+  // the bark.
+  PointCloud cloud = trunk_cloud(0.12, 3.0, 2.0 * kPi, 0.001, 1500);
+  Skeleton s = trunk_skeleton(0.12, 3.0, 0.0);
+  auto node_at = [&](double z) {
+    NodeId nearest = 0;
+    for (NodeId v = 0; v < s.node_count(); ++v)
+      if (std::abs(s[v].position.z() - z) < std::abs(s[nearest].position.z() - z)) nearest = v;
+    return nearest;
+  };
+  const NodeId at = node_at(1.3);
+  for (std::size_t i = 0; i < cloud.size(); ++i)  // the bark's points to the nodes at their heights, but that one
+    if (const NodeId v = node_at(cloud.positions[i].z()); v != at) s[v].points.push_back(static_cast<std::uint32_t>(i));
+  for (int i = 0; i < 2000; ++i) {
+    const double a = kPi + i * (2.0 * kPi / 2000.0);
+    if (std::abs(std::remainder(a - kPi, 2.0 * kPi)) < 0.8)
+      s[at].points.push_back(static_cast<std::uint32_t>(cloud.size()));  // 92 degrees, nearest the axis
+    cloud.positions.emplace_back(1.5 + 0.8 * std::cos(a), 2.0 + 0.8 * std::sin(a), 1.3);
+  }
+  const RadiusMeasurement arc = measure_node_radius(s, cloud, at);
+  ASSERT_GT(arc.weight, 0.0);
+  ASSERT_NEAR(arc.radius, 0.8, 1e-6);
+  ASSERT_NEAR(arc.offset, 0.5, 1e-6);
+  const TreeMeasurements m = measure_tree(s, &cloud);
+  ASSERT_TRUE(m.dbh.has_value());
+  EXPECT_EQ(m.dbh_source, DbhSource::points);
+  EXPECT_NEAR(*m.dbh, 0.24, 0.01);
+  EXPECT_DOUBLE_EQ(m.dbh_height, 1.3);  // at breast height, not under a swelling the whorl made
 }
 
 TEST(MeasureTree, DbhCircleMustSurroundTheAxis) {

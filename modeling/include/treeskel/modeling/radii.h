@@ -31,6 +31,7 @@ CircleFit fit_circle(const std::vector<Eigen::Vector2d>& points);
 struct RadiusMeasurement {
   double radius = 0.0;  ///< fitted circle radius; 0 when the node was not measured
   double weight = 0.0;  ///< reliability in [0, 1]: 0 for unmeasured nodes, 1 for a well covered, clean circle
+  double offset = 0.0;  ///< distance of the circle's centre from the node (at most `radius`)
 };
 
 /// The factor the skeleton of a model is pruned with (`PruneOptions::radius_factor`; `skeletonize`
