@@ -179,6 +179,11 @@ int run(Settings& s) {
   std::vector<std::string> warnings =
       model_warnings({skeleton, up, measurements, s.breast_height, check, sweep_stats, coverage, s.sweep.unite_apart});
   if (!wood.leafy_warning.empty()) warnings.insert(warnings.begin(), wood.leafy_warning);
+  if (radius_stats.completion.leafy_bushes && cloud)
+    warnings.push_back("--complete-all: " + std::to_string(radius_stats.completion.bushy_points) + " of the " +
+                       std::to_string(cloud->size()) +
+                       " points lie in bushes (leaves or needles, more than the share it grows twigs through): "
+                       "the bushes were left out, as --complete leaves them; --wood-only sets the leaves aside");
   if (!s.json)
     for (const auto& w : warnings) std::cerr << "warning: " << s.input << ": " << w << '\n';
   if (!placed.note.empty() && !frame.local && !s.quiet)
@@ -223,12 +228,14 @@ int run(Settings& s) {
                 {"largest_shift_radii", radius_stats.straightened.largest_shift_radii}};
   const CompleteStats& grafted = radius_stats.completion;
   j["completion"] = {{"run", s.radii.complete && cloud.has_value()},
+                     {"tufts_and_bushes", s.radii.complete && cloud.has_value() && s.radii.completion.keep_tufts},
                      {"uncovered_points", grafted.uncovered_points},
                      {"grafted_points", grafted.grafted_points},
                      {"branches", grafted.branches},
                      {"nodes", grafted.nodes},
                      {"bushy_grafts", grafted.bushy_grafts},
-                     {"bushy_points", grafted.bushy_points}};
+                     {"bushy_points", grafted.bushy_points},
+                     {"leafy_bushes", grafted.leafy_bushes}};
   j["mesh"] = {{"vertices", check.vertices},
                {"triangles", check.faces},
                {"closed", check.boundary_edges == 0},

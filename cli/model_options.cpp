@@ -2,6 +2,7 @@
 
 #include "report.h"
 
+#include "treeskel/complete.h"
 #include "treeskel/modeling/measurements.h"
 
 namespace treeskel::cli {
@@ -64,8 +65,19 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
              "Grow branches through the points that lie more than an octree cell outside the model's tubes (crowded "
              "or sparsely scanned crowns: the mesh then reaches them), and fit the radii again. Tufts on the bark "
              "(reaching at most three cells out: noise) and bushes (more than two forks a band: leaves, needles) "
-             "are not grown. Off by default: a few more points within 1% of the model, at up to 3x the time where "
+             "are not grown (--complete-all grows them). Off by default: a few more points within 1% of the model, at up to 3x the time where "
              "the new twigs cross other limbs (docs/models.md). Needs a cloud, not a saved skeleton")
+      ->group(g);
+  c.add_flag("--complete-all", [&r](std::int64_t) {
+               r.complete = true;
+               r.completion = all_grafts();
+             },
+             "As --complete, and grow the tufts and bushes too: a twig through every group of 4 or more points "
+             "more than an octree cell outside the tubes, as AdTree's models reach every cluster of points. On "
+             "AdTree's samples 0.87-0.996 of the points then lie within 1% of the height of the mesh (0.75-0.995 "
+             "by default), at 1.2-12 times the default's time, and the wood volume grows by 2-8%: leaves and noise "
+             "become twigs. Where bushes hold more than a fifth of the points (a leafy or needled crown) they are "
+             "left out, with a warning: set the leaves aside first (--wood-only; docs/models.md)")
       ->group(g);
   c.add_flag("--local", s.local,
              "Write the mesh in the local frame (the input's frame less the offset the report gives) in every format. "

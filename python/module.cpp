@@ -464,7 +464,8 @@ PYBIND11_MODULE(_treeskel, m) {
   }, py::arg("skeleton"),
         "A copy of the skeleton with radii by the pipe model, fitted to its cloud's points where it has "
         "one; keyword arguments: exponent, tip_weight, fit_points, complete (grow branches through the "
-        "points the fitted tubes pass by, as `treeskel model --complete`), stem_share_bound (at the stem's "
+        "points the fitted tubes pass by, as `treeskel model --complete`), complete_all (the tufts and bushes "
+        "too, as `--complete-all`), stem_share_bound (at the stem's "
         "forks no branch takes more than that many times its pipe-model share; 4 by default, 0 for none, "
         "as `treeskel model --stem-share-bound`), stub_length (tips shorter than that many radii of the branch "
         "they leave carry their own length only; 5 by default, 0 off, as `treeskel model --stub-length`), "

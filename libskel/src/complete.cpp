@@ -108,6 +108,12 @@ void for_cells_around(const Eigen::Vector3d& p, double size, Visit&& visit) {
 
 }  // namespace
 
+CompleteOptions all_grafts() {
+  CompleteOptions o;
+  o.keep_tufts = true;
+  return o;
+}
+
 CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, double cell_size, const CompleteOptions& options) {
   TREESKEL_REQUIRE(cell_size > 0.0, "the cell size must be positive");
   CompleteStats stats;
@@ -275,10 +281,23 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
   std::vector<std::int64_t> node_of(comps.size(), -1);
   std::vector<char> moved(n, 0);
   std::vector<std::uint32_t> kept;
+  auto candidate = [&](std::uint32_t k) {
+    if (graft_points[graft[k]] < options.min_points) return false;
+    return options.keep_tufts || graft_reach[graft[k]] > min_reach;  // else a tuft on the bark
+  };
+  // Asked to keep the tufts, the bushes grow too, unless they hold more than `max_bush_share` of the
+  // cloud: a leafy or needled crown.
+  bool grow_bushes = false;
+  if (options.keep_tufts) {
+    std::size_t in_bushes = 0;
+    for (std::uint32_t k = 0; k < comps.size(); ++k)
+      if (candidate(k) && bushy(graft[k])) in_bushes += members[k].size();
+    grow_bushes = static_cast<double>(in_bushes) <= options.max_bush_share * static_cast<double>(cloud.size());
+    stats.leafy_bushes = !grow_bushes;
+  }
   for (std::uint32_t k = 0; k < comps.size(); ++k) {
-    if (graft_points[graft[k]] < options.min_points) continue;
-    if (!(graft_reach[graft[k]] > min_reach)) continue;  // a tuft on the bark
-    if (bushy(graft[k])) {
+    if (!candidate(k)) continue;
+    if (!grow_bushes && bushy(graft[k])) {
       if (graft[k] == k) ++stats.bushy_grafts;
       stats.bushy_points += members[k].size();
       continue;

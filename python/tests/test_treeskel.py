@@ -123,6 +123,16 @@ def test_complete_equals_the_commands(exe, data, tmp_path):
     assert len(treeskel.extract_skeleton(cloud)) < len(treeskel.extract_skeleton(cloud, prune_radius=1, prune_point_radius=0, prune_bands=1, close_forks=0))
 
 
+def test_complete_all_equals_the_command(exe, data, tmp_path):
+    cloud = str(data / "tree_adtree1.xyz")
+    skeleton, mesh, _ = treeskel.model(cloud, complete_all=True)
+    mesh.save(str(tmp_path / "py.ply"), local=True)
+    run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", "--complete-all", "-q")
+    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    some, _, _ = treeskel.model(cloud, complete=True)
+    assert len(skeleton) > len(some)  # the tufts and bushes grown too
+
+
 def test_bad_input_raises_value_error_with_the_message(tmp_path):
     with pytest.raises(ValueError, match=r"\(N, 3\) array.*got shape \(5, 2\)"):
         treeskel.extract_skeleton(np.zeros((5, 2)))

@@ -298,6 +298,31 @@ TEST(Cli, ModelCompleteGrowsBranchesThroughThePointsItPassedBy) {
   EXPECT_NE(saved.out.find("--complete needs the cloud's points"), std::string::npos) << saved.out;
 }
 
+// --complete-all grows the tufts and bushes --complete leaves out: more of tree1's points grafted, no
+// bush left, the report says which was asked, and the mesh still passes every check.
+TEST(Cli, ModelCompleteAllGrowsTheTuftsAndBushesToo) {
+  test::TempDir dir;
+  const std::string cloud = test::data_file("tree_adtree1.xyz");
+  const Result some = run("model " + cloud + " --complete -o some.ply --json", dir.root());
+  ASSERT_EQ(some.code, 0) << some.out;
+  const auto before = nlohmann::json::parse(some.out);
+  EXPECT_FALSE(before["completion"]["tufts_and_bushes"].get<bool>());
+  const Result r = run("model " + cloud + " --complete-all -o all.ply --json", dir.root());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["completion"]["run"].get<bool>());
+  EXPECT_TRUE(j["completion"]["tufts_and_bushes"].get<bool>());
+  EXPECT_EQ(j["completion"]["bushy_grafts"].get<int>(), 0);
+  EXPECT_GT(j["completion"]["grafted_points"].get<int>(), 2 * before["completion"]["grafted_points"].get<int>());
+  EXPECT_EQ(j["completion"]["uncovered_points"].get<int>(), before["completion"]["uncovered_points"].get<int>());
+  EXPECT_TRUE(j["mesh"]["closed"].get<bool>());
+  EXPECT_EQ(j["mesh"]["self_intersections"].get<int>(), 0);
+  EXPECT_EQ(j["mesh"]["components"].get<int>(), 1);
+  EXPECT_GE(j["mesh"]["skeleton_coverage"].get<double>(), 0.95);
+  const modeling::MeshCheck check = modeling::check_mesh(io::read_mesh(dir.path("all.ply")), true);
+  EXPECT_TRUE(check.ok()) << check.problem();
+}
+
 // The limbs are straightened by default (stiffness 2, in the report, with what moved); --stiffness 0
 // keeps the skeleton's path, node for node what `skeletonize` pruned as a model writes but the root,
 // which goes down its trunk to where its points end (in the report too); a negative stiffness is

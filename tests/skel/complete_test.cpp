@@ -155,7 +155,16 @@ TEST(Complete, LeavesNoiseOnTheBarkAlone) {
   CompleteOptions tufts;
   tufts.min_reach = 0.035;
   tufts.max_branching = 0.0;
-  EXPECT_GT(complete_skeleton(t.skeleton, t.cloud, 0.03, tufts).nodes, 0u);
+  Skeleton nearer = t.skeleton;
+  EXPECT_GT(complete_skeleton(nearer, t.cloud, 0.03, tufts).nodes, 0u);
+  // Asked to keep them (`--complete-all`), every group of enough points grows a twig; the skeleton
+  // stays a tree that holds every point once.
+  Skeleton all = t.skeleton;
+  const CompleteStats grown = complete_skeleton(all, t.cloud, 0.03, all_grafts());
+  EXPECT_GT(grown.nodes, 0u);
+  EXPECT_GT(grown.grafted_points, 9 * grown.uncovered_points / 10);  // all but groups of under 4 points
+  EXPECT_EQ(validate(all, t.cloud.size()), "");
+  EXPECT_TRUE(is_tree(all.graph));
 }
 
 /// Adds a bush: a stalk from `from` along +x, and at its end `spurs` short twigs splaying out in
@@ -198,6 +207,25 @@ TEST(Complete, LeavesBushesOutAndGraftsTheTwigBesideThem) {
   EXPECT_EQ(all.bushy_grafts, 0u);
   EXPECT_EQ(validate(grown, t.cloud.size()), "");
   EXPECT_TRUE(is_tree(grown.graph));
+
+  // Keeping the tufts and bushes (`--complete-all`) grows the bush while bushes hold at most
+  // `max_bush_share` of the cloud; past it the crown counts as leafy and the bush is left out.
+  const double share = static_cast<double>(stats.bushy_points) / static_cast<double>(t.cloud.size());
+  CompleteOptions everything = all_grafts();
+  everything.max_bush_share = share + 0.02;
+  Skeleton bushy = t.skeleton;
+  const CompleteStats kept = complete_skeleton(bushy, t.cloud, 0.03, everything);
+  EXPECT_FALSE(kept.leafy_bushes);
+  EXPECT_EQ(kept.bushy_grafts, 0u);
+  EXPECT_GE(kept.grafted_points, all.grafted_points);
+  EXPECT_EQ(validate(bushy, t.cloud.size()), "");
+  everything.max_bush_share = share - 0.02;
+  Skeleton leafy = t.skeleton;
+  const CompleteStats left = complete_skeleton(leafy, t.cloud, 0.03, everything);
+  EXPECT_TRUE(left.leafy_bushes);
+  EXPECT_EQ(left.bushy_grafts, 1u);
+  EXPECT_EQ(left.bushy_points, stats.bushy_points);
+  EXPECT_EQ(validate(leafy, t.cloud.size()), "");
 }
 
 // The same input gives the same skeleton on one thread and on all of them.
