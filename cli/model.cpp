@@ -228,7 +228,7 @@ int run(Settings& s) {
                 {"largest_shift_radii", radius_stats.straightened.largest_shift_radii}};
   const CompleteStats& grafted = radius_stats.completion;
   j["completion"] = {{"run", s.radii.complete && cloud.has_value()},
-                     {"tufts_and_bushes", s.radii.complete && cloud.has_value() && s.radii.completion.keep_tufts},
+                     {"tufts_and_bushes", s.radii.complete && cloud.has_value() && s.radii.completion.tufts_and_bushes},
                      {"uncovered_points", grafted.uncovered_points},
                      {"grafted_points", grafted.grafted_points},
                      {"branches", grafted.branches},

@@ -110,7 +110,7 @@ void for_cells_around(const Eigen::Vector3d& p, double size, Visit&& visit) {
 
 CompleteOptions all_grafts() {
   CompleteOptions o;
-  o.keep_tufts = true;
+  o.tufts_and_bushes = true;
   return o;
 }
 
@@ -283,12 +283,12 @@ CompleteStats complete_skeleton(Skeleton& skeleton, const PointCloud& cloud, dou
   std::vector<std::uint32_t> kept;
   auto candidate = [&](std::uint32_t k) {
     if (graft_points[graft[k]] < options.min_points) return false;
-    return options.keep_tufts || graft_reach[graft[k]] > min_reach;  // else a tuft on the bark
+    return options.tufts_and_bushes || graft_reach[graft[k]] > min_reach;  // else a tuft on the bark
   };
-  // Asked to keep the tufts, the bushes grow too, unless they hold more than `max_bush_share` of the
+  // With `tufts_and_bushes`, the bushes grow too, unless they hold more than `max_bush_share` of the
   // cloud: a leafy or needled crown.
   bool grow_bushes = false;
-  if (options.keep_tufts) {
+  if (options.tufts_and_bushes) {
     std::size_t in_bushes = 0;
     for (std::uint32_t k = 0; k < comps.size(); ++k)
       if (candidate(k) && bushy(graft[k])) in_bushes += members[k].size();

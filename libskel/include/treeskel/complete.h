@@ -48,8 +48,8 @@ struct CompleteOptions {
   /// the bark it stays (`min_reach` unused) and however it branches, so that every group of uncovered
   /// points gets a twig, as AdTree's models do (`treeskel model --complete-all`, `all_grafts()`);
   /// unless the bushes hold more than `max_bush_share` of the cloud's points.
-  bool keep_tufts = false;
-  /// With `keep_tufts`: past this share of the cloud in bushes, the crown is leafy or needled, not
+  bool tufts_and_bushes = false;
+  /// With `tufts_and_bushes`: past this share of the cloud in bushes, the crown is leafy or needled, not
   /// a crown of missed twigs, and its bushes are left out as without it (`CompleteStats::leafy_bushes`).
   /// TreeLS's spruce holds 0.37 of its points in bushes: grown, their twigs crossed one another
   /// everywhere and the unions ran for more than ten minutes in exact arithmetic. AdTree's samples
@@ -58,7 +58,7 @@ struct CompleteOptions {
 };
 
 /// The options that grow a twig through every group of at least `min_points` uncovered points: the
-/// tufts on the bark and the bushes too, up to `max_bush_share` (`keep_tufts`).
+/// tufts on the bark and the bushes too, up to `max_bush_share` (`tufts_and_bushes`).
 CompleteOptions all_grafts();
 
 /// What `complete_skeleton` did.
@@ -69,7 +69,7 @@ struct CompleteStats {
   std::size_t nodes = 0;             ///< nodes added
   std::size_t bushy_grafts = 0;      ///< grafts not added because they branch like a bush
   std::size_t bushy_points = 0;      ///< the uncovered points of those grafts
-  /// With `keep_tufts`: the bushes held more than `max_bush_share` of the cloud and were left out.
+  /// With `tufts_and_bushes`: the bushes held more than `max_bush_share` of the cloud and were left out.
   bool leafy_bushes = false;
 };
 
