@@ -110,12 +110,18 @@ def test_tree_mesh_warns_of_limbs_left_out(data):
         treeskel.tree_mesh(skeleton)
 
 
+def modelled_as_the_command(exe, cloud, tmp_path, flag, **options):
+    """treeskel.model(cloud, **options), asserting that its mesh is the command's with `flag`, byte for byte."""
+    skeleton, mesh, _ = treeskel.model(cloud, **options)
+    mesh.save(str(tmp_path / "py.ply"), local=True)
+    run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", flag, "-q")
+    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    return skeleton
+
+
 def test_complete_equals_the_commands(exe, data, tmp_path):
     cloud = str(data / "tree_adtree1.xyz")
-    skeleton, mesh, _ = treeskel.model(cloud, complete=True)
-    mesh.save(str(tmp_path / "py.ply"), local=True)
-    run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", "--complete", "-q")
-    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    skeleton = modelled_as_the_command(exe, cloud, tmp_path, "--complete", complete=True)
     plain = treeskel.fit_radii(treeskel.extract_skeleton(cloud, prune_radius=1, prune_point_radius=0, prune_bands=1, close_forks=0))
     assert len(skeleton) > len(plain)  # the grown branches
     assert len(treeskel.fit_radii(treeskel.extract_skeleton(cloud, prune_radius=1, prune_point_radius=0, prune_bands=1, close_forks=0), complete=True)) == len(skeleton)
@@ -125,10 +131,7 @@ def test_complete_equals_the_commands(exe, data, tmp_path):
 
 def test_complete_all_equals_the_command(exe, data, tmp_path):
     cloud = str(data / "tree_adtree1.xyz")
-    skeleton, mesh, _ = treeskel.model(cloud, complete_all=True)
-    mesh.save(str(tmp_path / "py.ply"), local=True)
-    run(exe, "model", cloud, "-o", tmp_path / "cli.ply", "--local", "--complete-all", "-q")
-    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    skeleton = modelled_as_the_command(exe, cloud, tmp_path, "--complete-all", complete_all=True)
     some, _, _ = treeskel.model(cloud, complete=True)
     assert len(skeleton) > len(some)  # the tufts and bushes grown too
 
