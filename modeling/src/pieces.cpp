@@ -576,6 +576,13 @@ std::vector<Skeleton> split_piece(const Skeleton& piece) {
     return parts;
   }
   const std::size_t m = base.nodes.size() / 2;
+  if (m == 1 && !parts.empty()) {
+    // A base of two segments under a fork stays whole, its arms apart: halved, its halves share only
+    // the middle node, not a segment, and the half from there on, which the arms' stubs go into, met
+    // nothing (a limb of AdTree's Lille_11 with --complete-all, written beside the tree).
+    parts.push_back(path_of(piece, base.nodes));
+    return parts;
+  }
   parts.push_back(path_of(piece, {base.nodes.begin(), base.nodes.begin() + static_cast<std::ptrdiff_t>(m) + 1}));
   parts.push_back(path_of(piece, {base.nodes.begin() + static_cast<std::ptrdiff_t>(m > 1 ? m - 1 : m), base.nodes.end()}));
   return parts;

@@ -52,6 +52,24 @@ TEST(Pieces, AForkSplitsIntoItsArmsAndTheHalvesOfItsBase) {
   EXPECT_EQ(parts[2].node_count() + parts[3].node_count(), 21u + 2u);  // the trunk, two nodes shared
 }
 
+// A fork over a base of two segments: the arms apart and the base whole. Halved, the base's halves
+// would share only its middle node, and the arms' stubs would go into a half that meets nothing.
+TEST(Pieces, AShortBaseUnderAForkStaysWhole) {
+  Skeleton s = test::straight(0.2, 0.05, 2);  // 3 nodes: root, middle, fork
+  const NodeId fork = static_cast<NodeId>(s.node_count() - 1);
+  test::add_run(s, fork, Eigen::Vector3d(0.3, 0, 0.6), 0.02, 10);
+  test::add_run(s, fork, Eigen::Vector3d(-0.3, 0, 0.6), 0.02, 10);
+  const auto parts = split_piece(s);
+  ASSERT_EQ(parts.size(), 3u);  // two arms and the base
+  const Skeleton& base = parts.back();
+  EXPECT_EQ(base.node_count(), 3u);
+  EXPECT_EQ(base[0].position, s[s.root].position);
+  EXPECT_EQ(base[2].position, s[fork].position);
+  for (const auto& part : parts) EXPECT_LT(part.node_count(), s.node_count());
+  // A bare path of two segments still splits in two: nothing else would make it smaller.
+  EXPECT_EQ(split_piece(test::straight(0.2, 0.05, 2)).size(), 2u);
+}
+
 // Splitting goes on until single segments: every part is smaller than what it came from.
 TEST(Pieces, SplittingEnds) {
   std::vector<Skeleton> todo{test::y_shape(0.05, 0.6, 20)};
