@@ -189,21 +189,26 @@ TreeMeasurements measure_tree(const Skeleton& skeleton, const PointCloud* cloud,
     const Eigen::Vector3d low = below ? position(below->first, below->second) : g[trunk.front()].position;
     const Eigen::Vector3d high = above ? position(above->first, above->second) : g[trunk.back()].position;
     if (!((high - low).norm() > 0.0)) return std::nullopt;
-    // Twice the radius keeps the slice off nearby branches: the model's radius, or the circle fitted
-    // to the points of a trunk node within a slice's height, if that is larger and reliable and the
-    // node lies in the inner half of it (its centre within kWideningOffset of its radius).
-    // The model's can be far too small where many side chains share the trunk's cross section
-    // (ground left at the base, a crowded leader), and a slice that misses the bark fits nothing. (A
-    // node of TreeLS's spruce whose outer points went to twigs grown by --complete kept an arc of 30
-    // points, a circle of 0.39 m centred 0.28 m off the trunk of 0.12 m; the slice it widened took in
-    // the branches, and the DBH came out 0.78 m instead of 0.35 m.)
+    // Twice the radius keeps the slice off nearby branches: the model's radius first. It can be far
+    // too small where many side chains share the trunk's cross section (ground left at the base, a
+    // crowded leader), and a slice that misses the bark fits nothing; only then does the circle
+    // fitted to the points of a trunk node within a slice's height widen it, if that is larger and
+    // reliable and the node lies in the inner half of it (its centre within kWideningOffset of its
+    // radius). A slice that fits the bark is not widened: more reach only takes in the branches
+    // around it. (A node of TreeLS's spruce whose outer points went to twigs grown by --complete-all
+    // kept an arc of 30 points, a circle of 0.39 m centred 0.28 m off the trunk of 0.12 m; with
+    // --complete, a node moved by the limbs' smoothing came to lie inside a 0.23 m circle of 33
+    // points. The slices they widened took in the branches: DBH 0.78 m and 0.59 m instead of 0.35 m.)
+    const Eigen::Vector3d centre = position(i, f), axis = (high - low).normalized();
+    if (const auto narrow = slice_diameter(*cloud, centre, axis, 2.0 * radius, half)) return narrow;
     double wide = radius;
     for (NodeId v : trunk)
       if (std::abs(g[v].position.dot(up) - base - h) <= 2.0 * half)
         if (const RadiusMeasurement fit = measure_node_radius(skeleton, *cloud, v);
             fit.weight > 0.0 && fit.offset <= kWideningOffset * fit.radius)
           wide = std::max(wide, fit.radius);
-    return slice_diameter(*cloud, position(i, f), (high - low).normalized(), 2.0 * wide, half);
+    if (wide == radius) return std::nullopt;
+    return slice_diameter(*cloud, centre, axis, 2.0 * wide, half);
   };
   if (const auto at = reach(target)) {
     const auto [i, f] = *at;

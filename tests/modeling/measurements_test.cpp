@@ -229,6 +229,39 @@ TEST(MeasureTree, DbhSliceIsNotWidenedByAnArcBesideTheTrunk) {
   EXPECT_DOUBLE_EQ(m.dbh_height, 1.3);  // at breast height, not under a swelling the whorl made
 }
 
+TEST(MeasureTree, DbhSliceThatFitsTheBarkIsNotWidened) {
+  // A trunk of radius 0.12 whose model radius is right, and around it at breast height a whorl of
+  // branch bases: points on a circle of radius 0.35 around the axis, all of which the trunk node at
+  // 1.3 m holds (as a node of TreeLS's spruce moved by the limbs' smoothing came to lie inside a
+  // circle of 0.23 around a trunk of 0.175). The node lies at that circle's centre, but the slice of
+  // twice the model's radius fits the bark already: widened to the whorl, it fits the whorl.
+  PointCloud cloud = trunk_cloud(0.12, 3.0, 2.0 * kPi, 0.001, 1500);
+  Skeleton s = trunk_skeleton(0.12, 3.0, 0.0);
+  auto node_at = [&](double z) {
+    NodeId nearest = 0;
+    for (NodeId v = 0; v < s.node_count(); ++v)
+      if (std::abs(s[v].position.z() - z) < std::abs(s[nearest].position.z() - z)) nearest = v;
+    return nearest;
+  };
+  const NodeId at = node_at(1.3);
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (const NodeId v = node_at(cloud.positions[i].z()); v != at) s[v].points.push_back(static_cast<std::uint32_t>(i));
+  for (int i = 0; i < 600; ++i) {
+    const double a = i * (2.0 * kPi / 600.0);
+    s[at].points.push_back(static_cast<std::uint32_t>(cloud.size()));
+    cloud.positions.emplace_back(1.0 + 0.35 * std::cos(a), 2.0 + 0.35 * std::sin(a), 1.25 + 0.1 * (i % 2));
+  }
+  const RadiusMeasurement whorl = measure_node_radius(s, cloud, at);
+  ASSERT_GT(whorl.weight, 0.0);
+  ASSERT_NEAR(whorl.radius, 0.35, 1e-3);
+  ASSERT_LT(whorl.offset, 1e-3);
+  const TreeMeasurements m = measure_tree(s, &cloud);
+  ASSERT_TRUE(m.dbh.has_value());
+  EXPECT_EQ(m.dbh_source, DbhSource::points);
+  EXPECT_NEAR(*m.dbh, 0.24, 0.01);
+  EXPECT_DOUBLE_EQ(m.dbh_height, 1.3);
+}
+
 TEST(MeasureTree, DbhCircleMustSurroundTheAxis) {
   // A circle of the model's radius whose centre is 0.09 off the skeleton: it passes next to the axis
   // and is something beside the trunk.
