@@ -179,11 +179,8 @@ int run(Settings& s) {
   std::vector<std::string> warnings =
       model_warnings({skeleton, up, measurements, s.breast_height, check, sweep_stats, coverage, s.sweep.unite_apart});
   if (!wood.leafy_warning.empty()) warnings.insert(warnings.begin(), wood.leafy_warning);
-  if (radius_stats.completion.leafy_bushes && cloud)
-    warnings.push_back("--complete-all: " + std::to_string(radius_stats.completion.bushy_points) + " of the " +
-                       std::to_string(cloud->size()) +
-                       " points lie in bushes (leaves or needles, more than the share it grows twigs through): "
-                       "the bushes were left out, as --complete leaves them; --wood-only sets the leaves aside");
+  if (cloud)
+    if (std::string w = bushes_left_out(radius_stats.completion, cloud->size()); !w.empty()) warnings.push_back(std::move(w));
   if (!s.json)
     for (const auto& w : warnings) std::cerr << "warning: " << s.input << ": " << w << '\n';
   if (!placed.note.empty() && !frame.local && !s.quiet)

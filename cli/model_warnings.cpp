@@ -163,6 +163,14 @@ std::string ground_note(std::size_t points, const std::string& option) {
          " points of ground and what lies on it around the stem's foot (" + option + ")";
 }
 
+std::string bushes_left_out(const CompleteStats& grafted, std::size_t points, const std::string& option,
+                            const std::string& wood_only) {
+  if (!grafted.leafy_bushes) return {};
+  return option + ": " + std::to_string(grafted.bushy_points) + " of the " + std::to_string(points) +
+         " points lie in bushes (leaves or needles, more than the share it grows twigs through): the bushes were "
+         "left out, only the branches the tubes passed by were grown; " + wood_only + " sets the leaves aside";
+}
+
 std::string wood_split(std::size_t wood_points, std::size_t leaf_points, double in_leaf) {
   const std::size_t all = wood_points + leaf_points;
   std::ostringstream line;

@@ -3,6 +3,7 @@
 // can take it without the command line's dependencies.
 #pragma once
 
+#include "treeskel/complete.h"
 #include "treeskel/modeling/coverage.h"
 #include "treeskel/modeling/measurements.h"
 #include "treeskel/modeling/sweep.h"
@@ -66,5 +67,12 @@ std::string wood_split(std::size_t wood_points, std::size_t leaf_points, double 
 /// The note for `points` points of ground set aside (no input name), naming `option`, the front
 /// end's way that asked for it.
 std::string ground_note(std::size_t points, const std::string& option);
+
+/// When the completion that grows the bushes too (`--complete-all`, named `option`) left them out
+/// because they hold more than `CompleteOptions::max_bush_share` of the `points` points (the crown is
+/// leafy or needled), the warning (no input name), naming `wood_only`, the front end's way to set the
+/// leaves aside; empty otherwise.
+std::string bushes_left_out(const CompleteStats& grafted, std::size_t points, const std::string& option = "--complete-all",
+                            const std::string& wood_only = "--wood-only");
 
 }  // namespace treeskel::cli

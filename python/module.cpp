@@ -229,10 +229,17 @@ PySkeleton extract(const py::object& points, const Options& o) {
 
 PySkeleton with_radii(const PySkeleton& in, const Options& o) {
   PySkeleton out = in;
-  py::gil_scoped_release free;
-  modeling::RadiusOptions radii = o.model.radii;
-  radii.cell_size = in.cell_size;
-  modeling::fit_radii(out.skeleton, out.cloud ? &out.cloud->cloud : nullptr, radii);
+  modeling::RadiusStats stats;
+  {
+    py::gil_scoped_release free;
+    modeling::RadiusOptions radii = o.model.radii;
+    radii.cell_size = in.cell_size;
+    modeling::fit_radii(out.skeleton, out.cloud ? &out.cloud->cloud : nullptr, radii, &stats);
+  }
+  if (out.cloud)
+    if (const std::string w = cli::bushes_left_out(stats.completion, out.cloud->cloud.size(), "complete_all", "wood_only=True");
+        !w.empty())
+      warn_user(out.cloud.get(), w);
   return out;
 }
 

@@ -64,6 +64,7 @@ void model_fields(Params& p, Radii& r, Sweep& s, Copy copy) {
   copy(p.exponent, r.exponent);
   copy(p.tip_weight, r.tip_weight);
   copy(p.complete, r.complete);
+  copy(p.complete_all, r.completion.tufts_and_bushes);
   copy(p.segments, s.trunk_segments);
   copy(p.min_segments, s.min_segments);
   copy(p.min_radius, s.min_radius);
@@ -98,8 +99,9 @@ void report(ProgressFn progress, const std::string& stage, double done, int begi
 
 /// The skeleton of `cloud` with radii from the pipe model, reporting progress in [0, end] percent.
 /// `for_mesh`: pruned as `treeskel model` prunes (modeling::use_model_pruning), else as skeletonize.
+/// `bushes`: the warning when the completion left the bushes out (cli::bushes_left_out), or empty.
 Skeleton skeleton_of(const PointCloud& cloud, const SkeletonParams& sp, const ModelParams& mp, ProgressFn progress,
-                     int end, bool for_mesh) {
+                     int end, bool for_mesh, std::string& bushes) {
   SkeletonOptions o = options_of(sp);
   if (for_mesh) modeling::use_model_pruning(o.prune);
   const int skeleton_end = end * 9 / 10;
@@ -109,7 +111,10 @@ Skeleton skeleton_of(const PointCloud& cloud, const SkeletonParams& sp, const Mo
   report(progress, "fitting radii", 1.0, 0, skeleton_end);
   modeling::RadiusOptions radii = options_of(mp).radii;
   radii.cell_size = stats.cell_size;  // the scale of the completion's margins
-  modeling::fit_radii(skeleton, &cloud, radii);
+  modeling::RadiusStats radius_stats;
+  modeling::fit_radii(skeleton, &cloud, radii, &radius_stats);
+  bushes = cli::bushes_left_out(radius_stats.completion, cloud.size(), "\"Grow through missed points\" set to every group",
+                                "the filter's \"Wood only\" option");
   return skeleton;
 }
 
@@ -165,6 +170,7 @@ struct Source {
   std::string wood;             // with `wood_only`: the split, one line
   std::string leafy;            // without it: the warning of a cloud that looks leafy, or empty
   std::string float_grid;       // the warning of a cloud far from the origin, or empty
+  std::string bushes;           // the warning of bushes the completion left out, or empty
 };
 
 /// The cloud `xyz`, or with `wood_only` the points of it that look like wood (forest::separate_wood,
@@ -196,7 +202,7 @@ Source source_of(const std::vector<double>& xyz, const SkeletonParams& sp) {
 void take_notes(Source& source, LayerNotes& notes) {
   notes.wood = std::move(source.wood);
   notes.leaves = std::move(source.leaves);
-  for (std::string* w : {&source.float_grid, &source.leafy})
+  for (std::string* w : {&source.float_grid, &source.leafy, &source.bushes})
     if (!w->empty()) notes.warnings.push_back(std::move(*w));
 }
 
@@ -249,7 +255,7 @@ bool tree_skeleton(const std::vector<double>& xyz, const SkeletonParams& sp, con
   return guarded(error, [&] {
     Source source = source_of(xyz, sp);
     const PointCloud& cloud = source.cloud;
-    const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 100, false);
+    const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 100, false, source.bushes);
     SkeletonLayer layer;
     take_notes(source, layer);
     for (NodeId v = 0; v < skeleton.node_count(); ++v) {
@@ -275,7 +281,7 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
   return guarded(error, [&] {
     Source source = source_of(xyz, sp);
     const PointCloud& cloud = source.cloud;
-    const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 70, true);
+    const Skeleton skeleton = skeleton_of(cloud, sp, mp, progress, 70, true, source.bushes);
     report(progress, "sweeping the mesh", 0.7, 0, 100);
     const modeling::SweepOptions so = options_of(mp).sweep;
     modeling::SweepStats stats;

@@ -40,6 +40,8 @@ struct ModelParams {
   double exponent = 0.0;
   double tip_weight = 0.0;
   bool complete = false;  ///< grow branches through the points the tubes pass by (`model --complete`)
+  /// With `complete`: grow the tufts on the bark and the bushes too (`model --complete-all`).
+  bool complete_all = false;
   int segments = 0;
   int min_segments = 0;
   double min_radius = 0.0;

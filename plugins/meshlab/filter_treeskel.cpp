@@ -13,6 +13,8 @@ namespace bridge = treeskel::meshlab;
 namespace {
 
 const QStringList up_axes = {"+Z", "+Y", "+X", "-Z", "-Y", "-X"};
+/// "Grow through missed points": `treeskel model` without completion, `--complete`, `--complete-all`.
+const QStringList completions = {"no", "branches", "every group"};
 
 /// The positions of the layer's live vertices, as doubles.
 std::vector<double> points_of(const CMeshO& cloud) {
@@ -83,10 +85,13 @@ void add_radius_parameters(RichParameterList& list) {
   list.addParam(RichFloat("tipWeight", static_cast<float>(p.tip_weight), "Tip weight",
                           "How much each branch tip counts, in typical twig lengths, when the pipe model shares "
                           "a fork's cross-section among its children."));
-  list.addParam(RichBool("complete", p.complete, "Grow through missed points",
-                         "Grow branches through the points that lie more than an octree cell outside the fitted "
-                         "branches (crowded or sparsely scanned crowns), then fit the radii again. Tufts of noise "
-                         "on the bark and bushes of leaves are not grown. Up to 3 times slower."));
+  list.addParam(RichEnum("complete", p.complete ? (p.complete_all ? 2 : 1) : 0, completions, "Grow through missed points",
+                         "no: the skeleton's branches only. branches: grow branches through the points that lie more "
+                         "than an octree cell outside the fitted branches (crowded or sparsely scanned crowns), then "
+                         "fit the radii again; tufts of noise on the bark and bushes of leaves are not grown; up to 3 "
+                         "times slower. every group: the tufts and bushes too, as AdTree's models show them, unless "
+                         "bushes hold more than a fifth of the points (a crown in leaf or needles: they are left out "
+                         "and the log says so); up to 12 times slower."));
 }
 
 void add_mesh_parameters(const CMeshO& cloud, RichParameterList& list) {
@@ -132,7 +137,9 @@ bridge::ModelParams model_parameters(const RichParameterList& list, bool mesh) {
   bridge::ModelParams p = bridge::default_model_params();
   p.exponent = list.getFloat("exponent");
   p.tip_weight = list.getFloat("tipWeight");
-  p.complete = list.getBool("complete");
+  const int completion = list.getEnum("complete");
+  p.complete = completion > 0;
+  p.complete_all = completion == 2;
   if (mesh) {
     p.segments = list.getInt("segments");
     p.min_segments = list.getInt("minSegments");

@@ -151,5 +151,22 @@ TEST(ModelWarnings, SizesAndAxesNoTreeHas) {
   }
 }
 
+// The bushes --complete-all leaves out of a leafy or needled crown are said, with how many points
+// they hold and the front end's own names; nothing is said when they were grown or not asked for.
+TEST(BushesLeftOut, SaysHowManyPointsAndTheFrontEndsWayToTheWood) {
+  CompleteStats grafted;
+  grafted.bushy_grafts = 27;
+  grafted.bushy_points = 30607;
+  EXPECT_EQ(bushes_left_out(grafted, 83392), "");  // bushes, but not past the share: not left out by the option
+  grafted.leafy_bushes = true;
+  const std::string said = bushes_left_out(grafted, 83392);
+  EXPECT_EQ(said.rfind("--complete-all: 30607 of the 83392 points lie in bushes", 0), 0u) << said;
+  EXPECT_NE(said.find("--wood-only sets the leaves aside"), std::string::npos) << said;
+  const std::string python = bushes_left_out(grafted, 83392, "complete_all", "wood_only=True");
+  EXPECT_EQ(python.rfind("complete_all: ", 0), 0u) << python;
+  EXPECT_NE(python.find("wood_only=True sets"), std::string::npos) << python;
+  EXPECT_EQ(python.find("--"), std::string::npos) << python;
+}
+
 }  // namespace
 }  // namespace treeskel::cli

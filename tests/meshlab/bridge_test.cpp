@@ -81,6 +81,7 @@ TEST(MeshlabBridge, DefaultsAreTheLibrarysWithAutomaticScales) {
   EXPECT_TRUE(m.repair);
   EXPECT_FALSE(m.allow_defects);
   EXPECT_EQ(m.complete, modeling::RadiusOptions{}.complete);
+  EXPECT_EQ(m.complete_all, modeling::RadiusOptions{}.completion.tufts_and_bushes);
 }
 
 TEST(MeshlabBridge, ResolvedScalesAreTheLibrarysAndGiveTheSameSkeleton) {
@@ -156,6 +157,34 @@ TEST(MeshlabBridge, CompletionGivesTheLibrarysCompletedSkeleton) {
   EXPECT_EQ(completed.radius.size(), skeleton.node_count());
   EXPECT_EQ(completed.radius.size(), plain.radius.size() + grown.completion.nodes);
   EXPECT_TRUE(is_tree(completed.radius.size(), completed.edges));
+}
+
+/// "Grow through missed points" set to every group is `model --complete-all`: the tufts and bushes
+/// grow too, so the layer has more nodes than with branches alone, as many as the library gives.
+TEST(MeshlabBridge, EveryGroupIsTheLibrarysCompleteAll) {
+  const std::vector<double> xyz = flat_cloud("tree_adtree1.xyz");
+  ModelParams some = default_model_params(), all = some;
+  some.complete = all.complete = true;
+  all.complete_all = true;
+  SkeletonLayer branches, every;
+  std::string error;
+  ASSERT_TRUE(tree_skeleton(xyz, default_skeleton_params(), some, nullptr, branches, error)) << error;
+  ASSERT_TRUE(tree_skeleton(xyz, default_skeleton_params(), all, nullptr, every, error)) << error;
+
+  const PointCloud cloud = io::read_point_cloud(test::data_file("tree_adtree1.xyz"));
+  SkeletonStats stats;
+  Skeleton skeleton = extract_skeleton(cloud, {}, &stats);
+  modeling::RadiusOptions radii;
+  radii.complete = true;
+  radii.completion = all_grafts();
+  radii.cell_size = stats.cell_size;
+  modeling::RadiusStats grown;
+  modeling::fit_radii(skeleton, &cloud, radii, &grown);
+  EXPECT_FALSE(grown.completion.leafy_bushes);
+  EXPECT_EQ(every.radius.size(), skeleton.node_count());
+  EXPECT_GT(every.radius.size(), branches.radius.size());
+  EXPECT_TRUE(is_tree(every.radius.size(), every.edges));
+  for (const auto& w : every.warnings) EXPECT_EQ(w.find("lie in bushes"), std::string::npos) << w;
 }
 
 TEST(MeshlabBridge, MeshLayerIsClosedAndOriented) {
@@ -329,10 +358,10 @@ TEST(MeshlabBridge, BundledScriptsHoldTheDefaults) {
       {"cpcWeight", s.cpc_weight}, {"eta", s.eta},       {"splineSamples", s.samples},
       {"splineTension", s.tension}, {"exponent", m.exponent}, {"tipWeight", m.tip_weight},
       {"segments", m.segments}, {"minSegments", m.min_segments}, {"minRadius", m.min_radius},
-      {"breastHeight", m.breast_height}};
+      {"breastHeight", m.breast_height}, {"complete", m.complete ? (m.complete_all ? 2 : 1) : 0}};
   const std::map<std::string, bool> flags = {{"bridgeGaps", true}, {"prune", s.prune},   {"cpc", s.cpc},
                                              {"refine", s.refine}, {"junctions", s.junctions},
-                                             {"smooth", s.smooth}, {"repair", m.repair}, {"complete", m.complete},
+                                             {"smooth", s.smooth}, {"repair", m.repair},
                                              {"keepDefective", m.allow_defects}, {"woodOnly", s.wood_only}};
   for (const auto& [script, count] : {std::pair<std::string, std::size_t>{"tree_skeleton.mlx", 20},
                                       std::pair<std::string, std::size_t>{"tree_mesh.mlx", 26}}) {

@@ -70,20 +70,25 @@ case $case_name in
     "$checker" mesh "$out" "$cloud"
     ;;
   mesh-complete)
-    # "Grow through missed points" set in a copy of the bundled script: a checked mesh of a skeleton
-    # with more nodes than the default's (the grown branches), as `treeskel model --complete` gives.
+    # "Grow through missed points" set to branches, then to every group, in copies of the bundled
+    # script: checked meshes of skeletons with more nodes than the default's (the grown branches), and
+    # more again with the tufts and bushes, as `treeskel model --complete` and `--complete-all` give.
     cloud=$(input_for xyz)
     nodes() { grep -F "treeskel:" server.log | head -n 1 | sed -n 's/.* -> \([0-9]*\) nodes -> .*/\1/p'; }
     expect_ok -i "$cloud" -o plain.ply -s "$scripts/tree_mesh.mlx"
     plain=$(nodes)
-    sed 's/name="complete" value="false"/name="complete" value="true"/' "$scripts/tree_mesh.mlx" > complete.mlx
-    grep -qF 'name="complete" value="true"' complete.mlx
-    expect_ok -i "$cloud" -o tree.ply -s complete.mlx
-    grep -F "treeskel:" server.log | head -n 1
-    grown=$(nodes)
-    echo "nodes: $plain by default, $grown grown"
-    [ -n "$plain" ] && [ -n "$grown" ] && [ "$grown" -gt "$plain" ] || { echo "no branch grown" >&2; exit 1; }
-    "$checker" mesh tree.ply "$cloud"
+    grown=()
+    for choice in 1 2; do
+      sed "s/name=\"complete\" value=\"0\"/name=\"complete\" value=\"$choice\"/" "$scripts/tree_mesh.mlx" > complete$choice.mlx
+      grep -qF "name=\"complete\" value=\"$choice\"" complete$choice.mlx
+      expect_ok -i "$cloud" -o tree$choice.ply -s complete$choice.mlx
+      grep -F "treeskel:" server.log | head -n 1
+      grown[$choice]=$(nodes)
+      "$checker" mesh tree$choice.ply "$cloud"
+    done
+    echo "nodes: $plain by default, ${grown[1]} grown through branches, ${grown[2]} through every group"
+    [ -n "$plain" ] && [ -n "${grown[1]}" ] && [ "${grown[1]}" -gt "$plain" ] || { echo "no branch grown" >&2; exit 1; }
+    [ -n "${grown[2]}" ] && [ "${grown[2]}" -gt "${grown[1]}" ] || { echo "no tuft or bush grown" >&2; exit 1; }
     ;;
   mesh-wood)
     # arbor's broadleaf in leaf (the bundled quarter, as a PLY moved near the origin, see
