@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 
 namespace treeskel::modeling {
@@ -171,19 +172,27 @@ TEST(MeasureTree, TrunkRisesPastThickClutterAtTheBase) {
   EXPECT_EQ(m.branches_by_order, (std::vector<std::size_t>{1, 1}));
 }
 
+/// The node of `s` nearest to height `z`.
+NodeId node_at(const Skeleton& s, double z) {
+  NodeId nearest = 0;
+  for (NodeId v = 0; v < s.node_count(); ++v)
+    if (std::abs(s[v].position.z() - z) < std::abs(s[nearest].position.z() - z)) nearest = v;
+  return nearest;
+}
+
+/// Gives each point of `cloud` to the node of `s` at its height, unless that node is `skip`.
+void share_by_height(Skeleton& s, const PointCloud& cloud, std::optional<NodeId> skip = std::nullopt) {
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (const NodeId v = node_at(s, cloud.positions[i].z()); v != skip) s[v].points.push_back(static_cast<std::uint32_t>(i));
+}
+
 TEST(MeasureTree, DbhSliceReachesTheBarkWhereTheModelIsFarTooThin) {
   // The model gives the trunk 0.03 (its share of a fork with ground at the base, say); the bark is
   // at 0.1, outside a slice of twice the model's radius. The circles fitted to the trunk nodes' own
   // points widen the slice.
   const PointCloud cloud = trunk_cloud(0.1, 3.0, 2.0 * kPi, 0.001, 6000);
   Skeleton s = trunk_skeleton(0.03, 3.0, 0.0);
-  for (std::size_t i = 0; i < cloud.size(); ++i) {  // each point to the node at its height
-    NodeId nearest = 0;
-    for (NodeId v = 0; v < s.node_count(); ++v)
-      if (std::abs(s[v].position.z() - cloud.positions[i].z()) < std::abs(s[nearest].position.z() - cloud.positions[i].z()))
-        nearest = v;
-    s[nearest].points.push_back(static_cast<std::uint32_t>(i));
-  }
+  share_by_height(s, cloud);
   const TreeMeasurements m = measure_tree(s, &cloud);
   EXPECT_EQ(m.dbh_source, DbhSource::points);
   EXPECT_NEAR(*m.dbh, 0.2, 0.004);
@@ -203,15 +212,8 @@ TEST(MeasureTree, DbhSliceIsNotWidenedByAnArcBesideTheTrunk) {
   // the bark.
   PointCloud cloud = trunk_cloud(0.12, 3.0, 2.0 * kPi, 0.001, 1500);
   Skeleton s = trunk_skeleton(0.12, 3.0, 0.0);
-  auto node_at = [&](double z) {
-    NodeId nearest = 0;
-    for (NodeId v = 0; v < s.node_count(); ++v)
-      if (std::abs(s[v].position.z() - z) < std::abs(s[nearest].position.z() - z)) nearest = v;
-    return nearest;
-  };
-  const NodeId at = node_at(1.3);
-  for (std::size_t i = 0; i < cloud.size(); ++i)  // the bark's points to the nodes at their heights, but that one
-    if (const NodeId v = node_at(cloud.positions[i].z()); v != at) s[v].points.push_back(static_cast<std::uint32_t>(i));
+  const NodeId at = node_at(s, 1.3);
+  share_by_height(s, cloud, at);  // the bark's points to the nodes at their heights, but that one
   for (int i = 0; i < 2000; ++i) {
     const double a = kPi + i * (2.0 * kPi / 2000.0);
     if (std::abs(std::remainder(a - kPi, 2.0 * kPi)) < 0.8)
@@ -237,15 +239,8 @@ TEST(MeasureTree, DbhSliceThatFitsTheBarkIsNotWidened) {
   // twice the model's radius fits the bark already: widened to the whorl, it fits the whorl.
   PointCloud cloud = trunk_cloud(0.12, 3.0, 2.0 * kPi, 0.001, 1500);
   Skeleton s = trunk_skeleton(0.12, 3.0, 0.0);
-  auto node_at = [&](double z) {
-    NodeId nearest = 0;
-    for (NodeId v = 0; v < s.node_count(); ++v)
-      if (std::abs(s[v].position.z() - z) < std::abs(s[nearest].position.z() - z)) nearest = v;
-    return nearest;
-  };
-  const NodeId at = node_at(1.3);
-  for (std::size_t i = 0; i < cloud.size(); ++i)
-    if (const NodeId v = node_at(cloud.positions[i].z()); v != at) s[v].points.push_back(static_cast<std::uint32_t>(i));
+  const NodeId at = node_at(s, 1.3);
+  share_by_height(s, cloud, at);
   for (int i = 0; i < 600; ++i) {
     const double a = i * (2.0 * kPi / 600.0);
     s[at].points.push_back(static_cast<std::uint32_t>(cloud.size()));
