@@ -137,9 +137,12 @@ bridge::ModelParams model_parameters(const RichParameterList& list, bool mesh) {
   bridge::ModelParams p = bridge::default_model_params();
   p.exponent = list.getFloat("exponent");
   p.tip_weight = list.getFloat("tipWeight");
-  const int completion = list.getEnum("complete");
+  // Scripts saved before "Grow through missed points" was a choice of three hold it as a RichBool,
+  // whose true was "branches" (read as an enum, MeshLab's build asserts and the server aborts).
+  const Value& grow = list.getParameterByName("complete").value();
+  const int completion = grow.isBool() ? (grow.getBool() ? 1 : 0) : grow.getEnum();
   p.complete = completion > 0;
-  p.complete_all = completion == 2;
+  p.complete_all = completion >= 2;
   if (mesh) {
     p.segments = list.getInt("segments");
     p.min_segments = list.getInt("minSegments");

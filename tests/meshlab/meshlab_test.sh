@@ -86,7 +86,14 @@ case $case_name in
       grown[$choice]=$(nodes)
       "$checker" mesh tree$choice.ply "$cloud"
     done
-    echo "nodes: $plain by default, ${grown[1]} grown through branches, ${grown[2]} through every group"
+    # A script saved when the parameter was a checkbox (RichBool, true: "branches") still runs, as "branches".
+    sed 's/<Param type="RichEnum" name="complete" value="0"[^>]*>/<Param type="RichBool" name="complete" value="true"\/>/' \
+      "$scripts/tree_mesh.mlx" > checkbox.mlx
+    grep -qF '<Param type="RichBool" name="complete" value="true"/>' checkbox.mlx
+    expect_ok -i "$cloud" -o checkbox.ply -s checkbox.mlx
+    checkbox=$(nodes)
+    echo "nodes: $plain by default, ${grown[1]} grown through branches, ${grown[2]} through every group, $checkbox by a checkbox script"
+    [ "$checkbox" = "${grown[1]}" ] || { echo "the checkbox script did not grow branches as \"branches\" does" >&2; exit 1; }
     [ -n "$plain" ] && [ -n "${grown[1]}" ] && [ "${grown[1]}" -gt "$plain" ] || { echo "no branch grown" >&2; exit 1; }
     [ -n "${grown[2]}" ] && [ "${grown[2]}" -gt "${grown[1]}" ] || { echo "no tuft or bush grown" >&2; exit 1; }
     ;;
