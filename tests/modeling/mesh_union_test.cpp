@@ -182,6 +182,26 @@ TEST(MeshUnion, SolidsTouchingAtAPointKeepEveryFace) {
   EXPECT_EQ(at_tip, 2u);
 }
 
+// Pieces whose surfaces touch at a single point are one group (one union between them); a piece
+// inside the other's box but apart from its surface is not (it is joined as it is, no union). With
+// nothing to unite them with, the group's union is the only corefinement.
+TEST(MeshUnion, PiecesTouchingAtAPointAreOneGroupPiecesOnlyInABoxAreNot) {
+  using P = TreeMesh::Point;
+  const TreeMesh a = tetrahedron(P(0, 0, 0), P(1, 0, 0), P(0, 1, 0), P(0, 0, 1));
+  const TreeMesh touching = tetrahedron(P(0.25, 0.25, 0), P(0.75, 0.25, -1), P(-0.25, 0.5, -1), P(0.25, -0.25, -1));
+  const TreeMesh in_box = tetrahedron(P(0.8, 0.8, 0.8), P(0.9, 0.8, 0.8), P(0.8, 0.9, 0.8), P(0.8, 0.8, 0.9));
+  const auto united = detail::unite(TreeMesh{}, {a, touching, in_box}, 1e-9);
+  EXPECT_EQ(united.united, 3u);
+  EXPECT_EQ(united.failed, 0u);
+  EXPECT_EQ(united.batches, 1u);
+  const MeshCheck c = check_mesh(united.mesh);
+  EXPECT_EQ(c.components, 3u);
+  EXPECT_NEAR(c.volume, check_mesh(a).volume + check_mesh(touching).volume + check_mesh(in_box).volume, 1e-9);  // points rounded to floats
+  // Apart, they are three groups and no union.
+  const TreeMesh away = tetrahedron(P(3, 0, 0), P(4, 0, 0), P(3, 1, 0), P(3, 0, 1));
+  EXPECT_EQ(detail::unite(TreeMesh{}, {a, away, in_box}, 1e-9).batches, 0u);
+}
+
 // A piece wholly inside another (their surfaces apart) is one group with it, as a crossing piece is:
 // the two are united first, then with the trunk, rather than joined side by side into one
 // corefinement with the trunk.
