@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <map>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -533,6 +534,35 @@ class Whole {
 
 }  // namespace
 
+struct GroupUnions::Store {
+  struct Made {
+    Surface surface;
+    std::vector<std::size_t> taken;  // the positions among the group's pieces united into it, the first first
+    std::vector<std::size_t> left;   // the positions it did not take
+    std::size_t attempts = 0;        // unions tried
+  };
+  /// By the group's pieces: each one's points and then its faces' vertex indices, in order.
+  std::map<std::vector<std::vector<double>>, Made> made;
+};
+
+GroupUnions::GroupUnions() : store_(std::make_unique<Store>()) {}
+GroupUnions::~GroupUnions() = default;
+
+namespace {
+
+/// A mesh as its points and then its faces' vertex indices: equal for equal meshes.
+std::vector<double> shape_of(const TreeMesh& mesh) {
+  std::vector<double> out;
+  out.reserve(3 * mesh.n_vertices() + 3 * mesh.n_faces());
+  for (auto v : mesh.vertices())
+    for (int k = 0; k < 3; ++k) out.push_back(mesh.point(v)[k]);
+  for (auto f : mesh.faces())
+    for (auto v : mesh.fv_range(f)) out.push_back(static_cast<double>(v.idx()));
+  return out;
+}
+
+}  // namespace
+
 void split_pinched_vertices(std::vector<std::array<double, 3>>& points, std::vector<std::array<std::size_t, 3>>& faces) {
   // The faces around each vertex, in face order (a CSR list: one allocation, not one per vertex).
   const std::size_t n = points.size();
@@ -718,7 +748,7 @@ std::size_t weld_short_edges(TreeMesh& mesh, double weld, const std::vector<Eige
 }
 
 UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, double weld, const Eigen::Vector3d& offset,
-                  const std::vector<Eigen::AlignedBox3d>& where, bool pieces_tested) {
+                  const std::vector<Eigen::AlignedBox3d>& where, bool pieces_tested, GroupUnions* made) {
   // Nothing here is known to draw from CGAL's default random generator (box intersection and the
   // side-of-mesh test use generators of their own, seeded the same every time); it is seeded anyway,
   // so that a CGAL version whose corefinement did would still give the same mesh for the same input.
@@ -812,7 +842,24 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
       // Within the budget, the groups are made side by side: no group's unions depend on another's.
       std::vector<std::vector<std::size_t>> left(groups.size());
       std::vector<std::size_t> attempts(groups.size(), 0);
+      // A group made by an earlier call, of the same pieces, is taken as it was made.
+      std::vector<std::vector<std::vector<double>>> key(groups.size());
+      std::vector<char> reused(groups.size(), 0);
+      for (std::size_t g = 0; made && g < groups.size(); ++g) {
+        const auto& c = candidates[g];
+        if (c.size() < 2) continue;
+        for (std::size_t i : c) key[g].push_back(shape_of(pieces[i]));
+        const auto it = made->store().made.find(key[g]);
+        if (it == made->store().made.end()) continue;
+        const auto& m = it->second;
+        groups[g].surface = m.surface;
+        for (std::size_t k : m.taken) groups[g].members.push_back(c[k]);
+        for (std::size_t k : m.left) left[g].push_back(c[k]);
+        attempts[g] = m.attempts;
+        reused[g] = 1;
+      }
       tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+        if (reused[g]) return;
         const auto& c = candidates[g];
         groups[g] = {surfaces[c.front()], {c.front()}};
         for (std::size_t k = 1; k < c.size(); ++k) {
@@ -828,8 +875,16 @@ UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, dou
       });
       for (std::size_t g = 0; g < groups.size(); ++g) {
         left_over.insert(left_over.end(), left[g].begin(), left[g].end());
-        budget -= attempts[g];
+        budget -= attempts[g];  // as if made again: the same budget, the same mesh
+        if (reused[g]) continue;
         out.batches += attempts[g];
+        if (!made || candidates[g].size() < 2) continue;
+        const auto& c = candidates[g];
+        auto position = [&](std::size_t i) { return static_cast<std::size_t>(std::find(c.begin(), c.end(), i) - c.begin()); };
+        GroupUnions::Store::Made m{groups[g].surface, {}, {}, attempts[g]};
+        for (std::size_t i : groups[g].members) m.taken.push_back(position(i));
+        for (std::size_t i : left[g]) m.left.push_back(position(i));
+        made->store().made.emplace(std::move(key[g]), std::move(m));
       }
       std::sort(left_over.begin(), left_over.end());  // in the order of the pieces, as one at a time
     } else {

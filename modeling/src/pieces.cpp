@@ -316,7 +316,7 @@ class Uniter {
       meshes.push_back(p.mesh);
     }
     // With the repair on, every piece's sweep was tested for self-intersections (see `sweep`).
-    UnionResult united = detail::unite(base, meshes, o_.weld * extent_, frame_, boxes, o_.repair);
+    UnionResult united = detail::unite(base, meshes, o_.weld * extent_, frame_, boxes, o_.repair, &made_);
     TreeMesh mesh = std::move(united.mesh);
     std::size_t welded = united.welded;
     st_.unions += united.batches;
@@ -479,6 +479,7 @@ class Uniter {
   bool clean_base_;
   std::size_t swept_ = 0, unions_ = 0;
   std::vector<TreeMesh> apart_;  // the pieces the unions refused
+  GroupUnions made_;             // the groups' unions made so far, for a union made again after a nudge
 };
 
 /// Adds the vertices and faces of `part` to `mesh` as they are.

@@ -79,6 +79,33 @@ TEST(MeshUnion, PiecesThatCrossAreUnitedTogetherFirst) {
   expect_valid(united.mesh);
 }
 
+// A group's union made by an earlier call is taken again for the same pieces: the same mesh, one
+// corefinement fewer. A piece moved (as a nudge moves it) makes its group again.
+TEST(MeshUnion, AGroupOfTheSamePiecesIsNotUnitedAgain) {
+  const TreeMesh trunk = sweep_mesh(test::straight(2.0, 0.1, 20));
+  const TreeMesh low = limb(0.8, Eigen::Vector3d(1, 0, 1.6));
+  const TreeMesh high = limb(1.6, Eigen::Vector3d(1, 0, 0.8));  // crosses `low` at x = 0.5
+  const TreeMesh apart = limb(1.0, Eigen::Vector3d(-1, 0, 1.2));
+  detail::GroupUnions made;
+  const auto first = detail::unite(trunk, {low, high, apart}, 1e-6 * 2.0, Eigen::Vector3d::Zero(), {}, false, &made);
+  EXPECT_EQ(first.batches, 2u);  // low with high, then all with the trunk
+  const auto again = detail::unite(trunk, {low, high, apart}, 1e-6 * 2.0, Eigen::Vector3d::Zero(), {}, false, &made);
+  EXPECT_EQ(again.batches, 1u);  // with the trunk only
+  EXPECT_EQ(again.united, 3u);
+  ASSERT_EQ(again.mesh.n_vertices(), first.mesh.n_vertices());
+  ASSERT_EQ(again.mesh.n_faces(), first.mesh.n_faces());
+  for (auto v : first.mesh.vertices()) EXPECT_EQ(again.mesh.point(v), first.mesh.point(v));
+  for (auto f : first.mesh.faces()) {
+    auto a = first.mesh.cfv_begin(f), b = again.mesh.cfv_begin(again.mesh.face_handle(static_cast<unsigned>(f.idx())));
+    for (int k = 0; k < 3; ++k, ++a, ++b) EXPECT_EQ(a->idx(), b->idx());
+  }
+  TreeMesh moved = high;
+  for (auto v : moved.vertices()) moved.set_point(v, moved.point(v) + TreeMesh::Point(0, 0.001, 0));
+  const auto nudged = detail::unite(trunk, {low, moved, apart}, 1e-6 * 2.0, Eigen::Vector3d::Zero(), {}, false, &made);
+  EXPECT_EQ(nudged.batches, 2u);
+  expect_valid(nudged.mesh);
+}
+
 /// The mesh of a straight branch from `from` to `to`, `radius` thick.
 TreeMesh rod(const Eigen::Vector3d& from, const Eigen::Vector3d& to, double radius) {
   Skeleton s;
