@@ -75,7 +75,7 @@ void add_model_options(CLI::App& c, ModelSettings& s) {
              "As --complete, and grow the tufts and bushes too: a twig through every group of 4 or more points "
              "more than an octree cell outside the tubes, as AdTree's models reach every cluster of points. On "
              "AdTree's samples 0.87-0.996 of the points then lie within 1% of the height of the mesh (0.75-0.995 "
-             "by default), at 1.2-12 times the default's time, and the wood volume grows by 2-8%: leaves and noise "
+             "by default), at 1.1-6 times the default's time, and the wood volume grows by 2-8%: leaves and noise "
              "become twigs. Where bushes hold more than a fifth of the points (a leafy or needled crown) they are "
              "left out, with a warning: set the leaves aside first (--wood-only; docs/models.md)")
       ->group(g);

@@ -91,7 +91,7 @@ void add_radius_parameters(RichParameterList& list) {
                          "fit the radii again; tufts of noise on the bark and bushes of leaves are not grown; up to 3 "
                          "times slower. every group: the tufts and bushes too, as AdTree's models show them, unless "
                          "bushes hold more than a fifth of the points (a crown in leaf or needles: they are left out "
-                         "and the log says so); up to 12 times slower."));
+                         "and the log says so); up to 6 times slower."));
 }
 
 void add_mesh_parameters(const CMeshO& cloud, RichParameterList& list) {
