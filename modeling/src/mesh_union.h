@@ -109,18 +109,6 @@ std::vector<std::size_t> canonical_vertex_order(const std::vector<std::array<dou
   return order;
 }
 
-/// Unites `pieces` with `base`. Each input must be closed, manifold and free of self-intersections.
-/// Pieces that cross or hold one another are united among themselves first (at most 8 a group); then
-/// all the groups go into one corefinement with `base` (its cost follows the size of `base`, not of
-/// the pieces). The pieces left over (a group was full, or refused them, or `base` refused their
-/// group) follow in layers of pieces whose boxes do not overlap, a corefinement a layer; a layer
-/// the union refuses goes one piece at a time, and a piece refused alone is kept beside the mesh as
-/// a component of its own (counted in `failed`), never left out.
-/// Voids the union encloses between the pieces and `base` are filled (see `UnionResult::voids`).
-/// The result's points are rounded to 32-bit floats in the frame `offset` leads to (local + offset),
-/// and its edges shorter than `weld` collapsed (see `weld_short_edges`; within `where` if given).
-/// `pieces_tested`: the caller has tested every piece for self-intersections already (the sweep
-/// does), so they are not tested again (closedness still is).
 /// The unions of groups of pieces that `unite` made, kept for its next calls: a group of the same
 /// pieces (the same points and faces, in the same order) takes the union made before instead of
 /// making it again. A caller that nudges a piece and unites every piece again (`add_pieces`) redid
@@ -140,6 +128,19 @@ class GroupUnions {
   std::unique_ptr<Store> store_;
 };
 
+/// Unites `pieces` with `base`. Each input must be closed, manifold and free of self-intersections.
+/// Pieces that cross or hold one another are united among themselves first (at most 8 a group); then
+/// all the groups go into one corefinement with `base` (its cost follows the size of `base`, not of
+/// the pieces). The pieces left over (a group was full, or refused them, or `base` refused their
+/// group) follow in layers of pieces whose boxes do not overlap, a corefinement a layer; a layer
+/// the union refuses goes one piece at a time, and a piece refused alone is kept beside the mesh as
+/// a component of its own (counted in `failed`), never left out.
+/// Voids the union encloses between the pieces and `base` are filled (see `UnionResult::voids`).
+/// The result's points are rounded to 32-bit floats in the frame `offset` leads to (local + offset),
+/// and its edges shorter than `weld` collapsed (see `weld_short_edges`; within `where` if given).
+/// `pieces_tested`: the caller has tested every piece for self-intersections already (the sweep
+/// does), so they are not tested again (closedness still is). `made`: the groups' unions of earlier
+/// calls, taken again for the same pieces and added to (see `GroupUnions`).
 UnionResult unite(const TreeMesh& base, const std::vector<TreeMesh>& pieces, double weld,
                   const Eigen::Vector3d& offset = Eigen::Vector3d::Zero(),
                   const std::vector<Eigen::AlignedBox3d>& where = {}, bool pieces_tested = false,
