@@ -211,6 +211,22 @@ Eigen::Vector3d MeshDepth::nearest(const Eigen::Vector3d& p) const {
 
 namespace {
 
+/// Whether `meet` holds for some box of `a` and box of `b` that overlap (the box intersection stops
+/// at the first such pair). Reorders both.
+template <class Box, class Meet>
+bool some_pair_meets(std::vector<Box>& a, std::vector<Box>& b, Meet meet) {
+  if (a.empty() || b.empty()) return false;
+  struct Met {};
+  try {
+    CGAL::box_intersection_d(a.begin(), a.end(), b.begin(), b.end(), [&](const Box& p, const Box& q) {
+      if (meet(p, q)) throw Met{};
+    });
+  } catch (const Met&) {
+    return true;
+  }
+  return false;
+}
+
 /// Whether two closed pieces cross or one holds the other, as `PMP::do_intersect` with the overlap
 /// test of bounded sides decides it, but with each piece's triangles, AABB tree and points made once,
 /// not for every pair tested (on a crowded pine of the LPine1 plot those trees were 8% of its model),
@@ -280,16 +296,9 @@ class Overlaps {
       return out;
     };
     std::vector<Box> x = near(a, b.all), y = near(b, a.all);
-    if (x.empty() || y.empty()) return false;
-    struct Met {};
-    try {
-      CGAL::box_intersection_d(x.begin(), x.end(), y.begin(), y.end(), [&](const Box& p, const Box& q) {
-        if (CGAL::do_intersect(a.triangle[p.info()], b.triangle[q.info()])) throw Met{};
-      });
-    } catch (const Met&) {
-      return true;
-    }
-    return false;
+    return some_pair_meets(x, y, [&](const Box& p, const Box& q) {
+      return CGAL::do_intersect(a.triangle[p.info()], b.triangle[q.info()]);
+    });
   }
 
   static std::vector<GT::Point_3> one_point_per_component(const TreeMesh& mesh) {
@@ -434,20 +443,15 @@ class Whole {
       for (std::size_t c = 0; c < parts; ++c) mine[c].reserve(count[c]);
       for (auto f : piece.faces()) mine[part[f]].emplace_back(face_box[f], f);
     }
-    struct Met {};
     std::vector<Box> near;
     for (std::size_t c = 0; c < parts; ++c) {
       if (meets[c]) continue;
       near.clear();
       for (const auto& b : theirs)
         if (CGAL::do_overlap(b.bbox(), part_box[c])) near.push_back(b);
-      try {
-        CGAL::box_intersection_d(mine[c].begin(), mine[c].end(), near.begin(), near.end(), [&](const Box& a, const Box& b) {
-          if (faces_meet(piece, a.info(), surface_, b.info())) throw Met{};
-        });
-      } catch (const Met&) {
-        meets[c] = 1;
-      }
+      meets[c] = some_pair_meets(mine[c], near, [&](const Box& a, const Box& b) {
+        return faces_meet(piece, a.info(), surface_, b.info());
+      }) ? 1 : 0;
     }
     if (std::find(meets.begin(), meets.end(), 0) != meets.end()) {
       // The whole's components, found only when some part meets none of its faces (seldom).
