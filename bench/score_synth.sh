@@ -3,17 +3,20 @@
 # BPC, EPC and their precision over all clouds, and BPC on each of the complex trees 4-6; with
 # --set hard, on the harder trees of docs/accuracy.md instead, the means per set (crowded crowns,
 # sparse scans of 2,000-3,000 and of 4,000-6,200 points, every degradation at once).
-# A quick way to try an option on the benchmark (bench_accuracy is the full report).
-# Usage: bench/score_synth.sh [--seed S] [--set paper|hard] [SKELETONIZE_OPTION...]
+# A quick way to try an option on the benchmark (bench_accuracy is the full report). With --model,
+# the skeleton scored is the one `treeskel model --skeleton` writes, and the options are model's
+# (--complete-all, ...): its own pruning, stubs and grafts, straightened limbs.
+# Usage: bench/score_synth.sh [--seed S] [--set paper|hard] [--model] [SKELETONIZE_OR_MODEL_OPTION...]
 #        (TREESKEL_EXE overrides build/cli/treeskel)
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 exe=${TREESKEL_EXE:-$here/build/cli/treeskel}
-seed=1 set=paper
+seed=1 set=paper model=0
 while [ $# -gt 0 ]; do
   case $1 in
     --seed) seed=${2:?--seed needs a number}; shift 2 ;;
     --set) set=${2:?--set needs paper or hard}; shift 2 ;;
+    --model) model=1; shift ;;
     *) break ;;
   esac
 done
@@ -24,7 +27,12 @@ for cloud in "$work"/clouds/*.xyz; do
   name=$(basename "$cloud" .xyz)
   truth="$work/clouds/${name}_truth.json"                              # the harder trees: one per cloud
   [ -f "$truth" ] || truth="$work/clouds/${name%%_*}_truth.json"       # the paper's: one per tree
-  "$exe" skeletonize "$cloud" -o "$work/$name.json" -q "$@"
+  if [ "$model" = 1 ]; then
+    "$exe" model "$cloud" -o "$work/mesh.ply" --skeleton "$work/$name.json" -q "$@" 2>"$work/err" ||
+      { echo "$name: treeskel model failed: $(cat "$work/err")" >&2; exit 1; }
+  else
+    "$exe" skeletonize "$cloud" -o "$work/$name.json" -q "$@"
+  fi
   printf '{"cloud":"%s","scores":' "$name"
   "$exe" eval "$work/$name.json" "$truth" --json | tr -d '\n'
   echo '}'
