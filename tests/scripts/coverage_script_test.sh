@@ -34,7 +34,7 @@ node -e '
   if (!(Number(seconds) > 0)) fail("seconds");
   if (file !== "yes, 1, 0") fail("the file read back is not one closed, manifold piece free of self-intersection");
   if (!(Number(wood) >= 0.7 && Number(wood) <= 1.1)) fail("the mesh holds far more or less than the wood volume reported");
-' "$row"
+' "$row" || exit 1
 
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
