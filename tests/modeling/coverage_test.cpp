@@ -66,6 +66,53 @@ TEST(Coverage, ASkeletonOutsideButWithinTheToleranceOfTheSurfaceIsCovered) {
   EXPECT_LT(share, 1.0);
 }
 
+/// One edge from (x0, 0.5, 0.5) to (x1, 0.5, 0.5), of radius `r` at both ends.
+Skeleton rod(double x0, double x1, double r) {
+  Skeleton s;
+  SkeletonNode a, b;
+  a.position = {x0, 0.5, 0.5};
+  b.position = {x1, 0.5, 0.5};
+  a.radius = b.radius = r;
+  s.root = add_node(s, a);
+  boost::add_edge(s.root, add_node(s, b), s.graph);
+  return s;
+}
+
+TEST(Coverage, TheWoodInsideIsTheShareOfTheFrustumsTheMeshHolds) {
+  const TreeMesh cube = unit_cube();
+  // A rod of radius 0.1 wholly inside the cube, and one cut in half by its side x = 1.
+  const WoodInside all = wood_inside(rod(0.2, 0.8, 0.1), cube);
+  EXPECT_NEAR(all.volume, 3.14159265358979 * 0.01 * 0.6, 1e-12);
+  EXPECT_EQ(all.samples, 4000u);
+  EXPECT_EQ(all.inside, 4000u);
+  const WoodInside half = wood_inside(rod(0.5, 1.5, 0.1), cube);
+  EXPECT_NEAR(half.share(), 0.5, 0.03);  // 4,000 samples: a standard error of 0.008
+  // A cone, its tip outside: a tenth of its length holds a thousandth of its volume.
+  Skeleton cone = rod(0.1, 1.1, 0.1);
+  cone[1].radius = 0.0;
+  EXPECT_GT(wood_inside(cone, cube).share(), 0.99);
+  // Seeded: the same points every time; another seed, other points.
+  EXPECT_EQ(wood_inside(rod(0.5, 1.5, 0.1), cube).inside, half.inside);
+  EXPECT_NE(wood_inside(rod(0.5, 1.5, 0.1), cube, 4000, 2).inside, half.inside);
+  // Nothing to sample: no share lost.
+  EXPECT_DOUBLE_EQ(wood_inside(rod(0.2, 0.8, 0.0), cube).share(), 1.0);
+  EXPECT_EQ(wood_inside(rod(0.2, 0.8, 0.1), cube, 0).samples, 0u);
+}
+
+TEST(Coverage, FrustumsThatOverlapAreStillWoodInside) {
+  // A Y's arms start inside the trunk's volume: the frustums count that part twice, and the mesh
+  // once, so its volume falls short of theirs while all of their wood lies inside it.
+  const Skeleton y = test::y_shape(0.1);
+  const TreeMesh mesh = sweep_mesh(y);
+  const WoodInside w = wood_inside(y, mesh);
+  EXPECT_LT(check_mesh(mesh).volume, w.volume);
+  EXPECT_GT(w.share(), 0.97);
+  // A mesh of the trunk alone holds about its share of the wood.
+  const TreeMesh trunk = sweep_mesh(test::straight(1.0, 0.1, 20));
+  const double trunk_share = 0.01 / (0.01 + 2.0 * 0.005);  // r^2 L: trunk 0.01, each arm 0.005
+  EXPECT_NEAR(wood_inside(y, trunk).share(), trunk_share, 0.04);
+}
+
 TEST(Coverage, SurfaceDistancesOfAxisAndOutsidePoints) {
   const TreeMesh mesh = sweep_mesh(test::straight(2.0, 0.1, 20));
   const std::vector<Eigen::Vector3d> points{{0, 0, 1}, {1, 0, 1}};

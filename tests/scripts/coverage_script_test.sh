@@ -3,7 +3,8 @@
 # closed, manifold and one piece; the shares are shares and the skeleton's within 1% is no more than
 # its within 2%; the points the mesh misses are counted and measured against the skeleton's axis; and
 # the skeleton's axis, being thinner than the mesh, lies near fewer points than the mesh's surface;
-# the mesh holds most of the wood volume the report gives.
+# the mesh holds most of the wood volume the report gives, and most of the frustums' volume lies
+# inside it.
 # A mesh in another frame than the cloud's (a georeferenced tree's OBJ in world coordinates) is
 # refused with the way out, not measured as covering nothing.
 set -uo pipefail
@@ -16,8 +17,8 @@ row=$(grep '^| tree_adtree1.xyz |' <<<"$out")
 node -e '
   const cells = process.argv[1].split("|").slice(1, -1).map((s) => s.trim());
   const fail = (why) => { console.log("FAIL: " + why + ": " + process.argv[1]); process.exit(1); };
-  if (cells.length !== 11) fail(`${cells.length} columns, not 11`);
-  const [name, points, near1, near2, reach, inside, axis, missedNear, seconds, file, wood] = cells;
+  if (cells.length !== 12) fail(`${cells.length} columns, not 12`);
+  const [name, points, near1, near2, reach, inside, axis, missedNear, seconds, file, wood, woodInside] = cells;
   if (Number(points) !== 11855) fail("points");
   const share = (s) => { const v = Number(s); if (!(v >= 0 && v <= 1)) fail(`${s} is not a share`); return v; };
   const m1 = share(near1), m2 = share(near2);
@@ -34,6 +35,7 @@ node -e '
   if (!(Number(seconds) > 0)) fail("seconds");
   if (file !== "yes, 1, 0") fail("the file read back is not one closed, manifold piece free of self-intersection");
   if (!(Number(wood) >= 0.7 && Number(wood) <= 1.1)) fail("the mesh holds far more or less than the wood volume reported");
+  if (share(woodInside) < 0.9) fail("less than 0.9 of the frustum volume inside the mesh");
 ' "$row" || exit 1
 
 dir=$(mktemp -d)

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace treeskel::modeling {
@@ -30,6 +31,24 @@ struct SkeletonCoverage {
 /// @pre `mesh` is closed (its inside is then defined).
 SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mesh, double step = 0.0,
                                    double tolerance = 0.0);
+
+/// What `wood_inside` found.
+struct WoodInside {
+  double volume = 0.0;       ///< the frustums between the skeleton's nodes, with their radii
+  std::size_t samples = 0;   ///< points drawn in them
+  std::size_t inside = 0;    ///< of those, inside the mesh or on its surface
+  double share() const { return samples > 0 ? static_cast<double>(inside) / static_cast<double>(samples) : 1.0; }
+};
+
+/// How much of the wood the skeleton's radii describe lies inside the mesh: `samples` points drawn
+/// uniformly in the volume of the frustums between the skeleton's nodes (the volume `measure_tree`
+/// reports), each tested against the mesh. The mesh's volume over the frustums' cannot tell wood the
+/// mesh lacks from frustums that overlap (a branch's first segment inside its parent, a path that
+/// folds back), which that ratio counts twice; this share can: an overlap is inside the mesh too.
+/// Seeded by `seed`: the same share every run, for any number of threads.
+/// @pre `mesh` is closed (its inside is then defined).
+WoodInside wood_inside(const Skeleton& skeleton, const TreeMesh& mesh, std::size_t samples = 4000,
+                       std::uint64_t seed = 1);
 
 /// Distance from each point to the mesh's surface (exact, by an AABB tree over the triangles).
 std::vector<double> surface_distances(const TreeMesh& mesh, const std::vector<Eigen::Vector3d>& points);
