@@ -22,8 +22,6 @@ namespace {
 using detail::FaceTree;
 using K = detail::GT;
 
-constexpr double kPi = 3.14159265358979323846;
-
 K::Point_3 point(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "treeskel/modeling/radii.h"
 
 #include "treeskel/error.h"
+#include "treeskel/geometry.h"
 #include "treeskel/modeling/base.h"
 #include "treeskel/modeling/chains.h"
 
@@ -17,7 +18,6 @@ namespace treeskel::modeling {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr std::size_t kMaxFitPoints = 2000;  // a circle needs no more; larger nodes are thinned
 constexpr int kGaussNewtonSteps = 10;
 

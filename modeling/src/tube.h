@@ -3,6 +3,8 @@
 // joined without the tube crossing itself, and where along a branch its tube lays a ring.
 #pragma once
 
+#include "treeskel/geometry.h"
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // Ring::vertex takes a cross product
 
@@ -11,8 +13,6 @@
 #include <vector>
 
 namespace treeskel::modeling::detail {
-
-constexpr double kPi = 3.14159265358979323846;
 
 /// Circumradius factor that gives a regular n-gon the area of the circle it stands for.
 double area_factor(int sides);

@@ -8,9 +8,10 @@
 
 namespace treeskel {
 
+inline constexpr double kPi = 3.14159265358979323846;
+
 /// Volume of the frustum of a cone with end radii `r1`, `r2` and height `length`.
 inline double frustum_volume(double r1, double r2, double length) {
-  constexpr double kPi = 3.14159265358979323846;
   return kPi * length / 3.0 * (r1 * r1 + r1 * r2 + r2 * r2);
 }
 
