@@ -16,7 +16,9 @@ readers=("$@")
 build=${TREESKEL_FUZZ_DIR:-$here/build-fuzz}
 
 TREESKEL_EXTRA_PACKAGES="clang libclang-rt-14-dev" TREESKEL_INSTALL_ONLY=1 "$here/scripts/setup.sh"
-CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTREESKEL_FUZZ=ON \
+generator=()
+[ -f "$build/CMakeCache.txt" ] || ! command -v ninja >/dev/null || generator=(-G Ninja)
+CXX=clang++ cmake -S "$here" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTREESKEL_FUZZ=ON \
   -DTREESKEL_BUILD_TESTS=OFF -DTREESKEL_BUILD_BENCH=OFF -DTREESKEL_BUILD_EXAMPLES=OFF >/dev/null
 targets=()
 for r in "${readers[@]}"; do targets+=("fuzz_$r"); done

@@ -31,7 +31,7 @@ apt_install() {
   "${sudo[@]}" apt-get install -y -qq --no-install-recommends "$@" >/dev/null
 }
 
-packages=(build-essential cmake pkg-config
+packages=(build-essential cmake ninja-build pkg-config
           libcgal-dev libeigen3-dev libopenmesh-dev libassimp-dev libboost-graph-dev libtbb-dev
           libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev)
 meshlab=${TREESKEL_MESHLAB_PLUGIN:-0}
@@ -76,6 +76,10 @@ if [ "$meshlab" = 1 ]; then
   cmake_args+=(-DTREESKEL_MESHLAB_PLUGIN=ON "-DMESHLAB_SOURCE_DIR=$build/meshlab-source")
 fi
 [ "$python" = 1 ] && cmake_args+=(-DTREESKEL_PYTHON=ON)
+# Ninja for a new build folder: it compiles a target's own sources while the libraries it links are
+# still being built, where make's generator waits for them and leaves a core idle; a folder made
+# before keeps the generator it was made with.
+[ -f "$build/CMakeCache.txt" ] || ! command -v ninja >/dev/null || cmake_args+=(-G Ninja)
 cmake -S "$here" -B "$build" "${cmake_args[@]}" ${TREESKEL_CMAKE_ARGS:-} >/dev/null
 target=()
 [ -z "${TREESKEL_BUILD_TARGET:-}" ] || target=(--target "$TREESKEL_BUILD_TARGET")
