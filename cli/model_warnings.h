@@ -40,13 +40,14 @@ struct ModelOutcome {
 };
 
 /// What the user of a mesh alone should be told (model_warnings' first sentences): limbs apart or
-/// left out, a mesh that crosses itself once in floats, less than 95% of the skeleton in the mesh.
+/// left out, a mesh that crosses itself once in floats, less than 95% of the skeleton's length or 85%
+/// of the wood its radii describe in the mesh.
 std::vector<std::string> mesh_warnings(const modeling::MeshCheck& check, const modeling::SweepStats& sweep,
                                        const modeling::SkeletonCoverage& coverage, bool unite_apart);
 
 /// What the user of a model should be told, one sentence each (without the input's name): limbs
 /// apart or left out, a mesh that crosses itself once in floats, less than 95% of the skeleton or
-/// 70% of the wood volume in the mesh, an up axis or units that look wrong, a DBH no tree has, a
+/// 85% of its wood in the mesh, an up axis or units that look wrong, a DBH no tree has, a
 /// tenth of the cloud or more left out in parts too far to join (several trees?).
 /// Every front end (the command's stderr and report, MeshLab's log) says the same.
 std::vector<std::string> model_warnings(const ModelOutcome& outcome);

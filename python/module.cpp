@@ -278,7 +278,7 @@ MeshFacts facts_of(const PySkeleton& s, const Mesh& mesh) {
 }
 
 /// What `treeskel model` warns about a mesh alone (limbs apart or left out, crossings in floats,
-/// little of the skeleton inside), as Python UserWarnings (one each): `tree_mesh` has no measurements.
+/// little of the skeleton or of its wood inside), as Python UserWarnings (one each): `tree_mesh` has no measurements.
 void warn_about_mesh(const PySkeleton& s, const Mesh& mesh) {
   const MeshFacts f = facts_of(s, mesh);
   for (const auto& w : cli::mesh_warnings(f.check, mesh.stats, f.coverage, mesh.options.unite_apart))
@@ -487,7 +487,7 @@ PYBIND11_MODULE(_treeskel, m) {
   }, py::arg("skeleton"),
         "One closed mesh of a skeleton with radii (fit_radii first); keyword arguments: segments, "
         "min_segments, min_radius, no_unite, no_repair. What `treeskel model` warns about the mesh (limbs "
-        "apart or left out, little of the skeleton inside it) comes as UserWarnings");
+        "apart or left out, little of the skeleton or of its wood inside it) comes as UserWarnings");
 
   m.def("measure", [](const std::shared_ptr<PySkeleton>& s, const py::kwargs& kwargs) {
     const Options o = parse_options(kwargs, false, true, "measure");

@@ -24,6 +24,57 @@ using K = detail::GT;
 
 K::Point_3 point(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
+/// wood_inside's draw: the frustums' volume into `wood`, and `samples` points drawn uniformly in it
+/// (none when no frustum has a volume).
+std::vector<K::Point_3> draw_in_frustums(const Skeleton& skeleton, std::size_t samples, std::uint64_t seed,
+                                         WoodInside& wood) {
+  const auto& g = skeleton.graph;
+  // Each edge's frustum and the running sum of their volumes, to draw an edge by its share.
+  struct Frustum {
+    Eigen::Vector3d a, b;
+    double ra, rb;
+  };
+  std::vector<Frustum> frustums;
+  std::vector<double> upto;
+  for (auto [it, end] = boost::edges(g); it != end; ++it) {
+    const NodeId u = boost::source(*it, g), v = boost::target(*it, g);
+    const Frustum f{g[u].position, g[v].position, std::max(g[u].radius, 0.0), std::max(g[v].radius, 0.0)};
+    const double volume = frustum_volume(f.ra, f.rb, (f.b - f.a).norm());
+    if (!(volume > 0.0)) continue;
+    wood.volume += volume;
+    frustums.push_back(f);
+    upto.push_back(wood.volume);
+  }
+  if (frustums.empty() || samples == 0) return {};
+  // The points first, from one generator in order; then the tests, side by side.
+  std::mt19937_64 random(seed);
+  auto uniform = [&random] { return static_cast<double>(random() >> 11) * 0x1.0p-53; };
+  std::vector<K::Point_3> points;
+  points.reserve(samples);
+  while (points.size() < samples) {
+    const std::size_t e = static_cast<std::size_t>(
+        std::upper_bound(upto.begin(), upto.end(), uniform() * wood.volume) - upto.begin());
+    const Frustum& f = frustums[std::min(e, frustums.size() - 1)];
+    // Along the axis with density as the cross section (r linear in t, so r² by rejection), then
+    // uniformly in the disc there.
+    const double t = uniform(), r = f.ra + (f.rb - f.ra) * t, r_max = std::max(f.ra, f.rb);
+    if (uniform() * r_max * r_max > r * r) continue;
+    const Eigen::Vector3d axis = (f.b - f.a).normalized();
+    const Eigen::Vector3d across = axis.unitOrthogonal(), other = axis.cross(across);
+    const double angle = 2.0 * kPi * uniform(), rho = r * std::sqrt(uniform());
+    points.push_back(point(f.a + (f.b - f.a) * t + rho * (std::cos(angle) * across + std::sin(angle) * other)));
+  }
+  return points;
+}
+
+/// Counts those of `points` inside the mesh of `tree` (built) into `wood`.
+void count_inside(const FaceTree& tree, const std::vector<K::Point_3>& points, WoodInside& wood) {
+  const detail::SideOfFaces side(tree);
+  std::vector<char> in(points.size(), 0);
+  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) { in[i] = side(points[i]) != CGAL::ON_UNBOUNDED_SIDE; });
+  wood.inside = static_cast<std::size_t>(std::count(in.begin(), in.end(), 1));
+}
+
 }  // namespace
 
 SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mesh, double step, double tolerance) {
@@ -37,9 +88,12 @@ SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mes
   if (!(tolerance > 0.0)) tolerance = 1e-6 * extent;
   for (auto [it, end] = boost::edges(g); it != end; ++it)
     out.length += (g[boost::source(*it, g)].position - g[boost::target(*it, g)].position).norm();
+  const std::vector<K::Point_3> wood = draw_in_frustums(skeleton, kWoodSamples, 1, out.wood);
+  out.wood.samples = wood.size();
   if (mesh.n_faces() == 0) return out;
   FaceTree tree(faces(mesh).first, faces(mesh).second, mesh);
   tree.build();  // before the threads read it
+  count_inside(tree, wood, out.wood);
   const detail::SideOfFaces inside(tree);
   const double tolerance2 = tolerance * tolerance;
   // Each edge on its own (the tree is only read), summed in edge order: the same share for any
@@ -102,49 +156,12 @@ SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mes
 
 WoodInside wood_inside(const Skeleton& skeleton, const TreeMesh& mesh, std::size_t samples, std::uint64_t seed) {
   WoodInside out;
-  const auto& g = skeleton.graph;
-  // Each edge's frustum and the running sum of their volumes, to draw an edge by its share.
-  struct Frustum {
-    Eigen::Vector3d a, b;
-    double ra, rb;
-  };
-  std::vector<Frustum> frustums;
-  std::vector<double> upto;
-  for (auto [it, end] = boost::edges(g); it != end; ++it) {
-    const NodeId u = boost::source(*it, g), v = boost::target(*it, g);
-    const Frustum f{g[u].position, g[v].position, std::max(g[u].radius, 0.0), std::max(g[v].radius, 0.0)};
-    const double volume = frustum_volume(f.ra, f.rb, (f.b - f.a).norm());
-    if (!(volume > 0.0)) continue;
-    out.volume += volume;
-    frustums.push_back(f);
-    upto.push_back(out.volume);
-  }
-  if (frustums.empty() || samples == 0 || mesh.n_faces() == 0) return out;
-  // The points first, from one generator in order; then the tests, side by side.
-  std::mt19937_64 random(seed);
-  auto uniform = [&random] { return static_cast<double>(random() >> 11) * 0x1.0p-53; };
-  std::vector<K::Point_3> points;
-  points.reserve(samples);
-  while (points.size() < samples) {
-    const std::size_t e = static_cast<std::size_t>(
-        std::upper_bound(upto.begin(), upto.end(), uniform() * out.volume) - upto.begin());
-    const Frustum& f = frustums[std::min(e, frustums.size() - 1)];
-    // Along the axis with density as the cross section (r linear in t, so r² by rejection), then
-    // uniformly in the disc there.
-    const double t = uniform(), r = f.ra + (f.rb - f.ra) * t, r_max = std::max(f.ra, f.rb);
-    if (uniform() * r_max * r_max > r * r) continue;
-    const Eigen::Vector3d axis = (f.b - f.a).normalized();
-    const Eigen::Vector3d across = axis.unitOrthogonal(), other = axis.cross(across);
-    const double angle = 2.0 * kPi * uniform(), rho = r * std::sqrt(uniform());
-    points.push_back(point(f.a + (f.b - f.a) * t + rho * (std::cos(angle) * across + std::sin(angle) * other)));
-  }
+  const std::vector<K::Point_3> points = draw_in_frustums(skeleton, samples, seed, out);
+  out.samples = points.size();
+  if (points.empty() || mesh.n_faces() == 0) return out;  // an empty mesh holds none of it
   FaceTree tree(faces(mesh).first, faces(mesh).second, mesh);
   tree.build();  // before the threads read it
-  const detail::SideOfFaces side(tree);
-  std::vector<char> in(points.size(), 0);
-  tbb::parallel_for(std::size_t{0}, points.size(), [&](std::size_t i) { in[i] = side(points[i]) != CGAL::ON_UNBOUNDED_SIDE; });
-  out.samples = points.size();
-  out.inside = static_cast<std::size_t>(std::count(in.begin(), in.end(), 1));
+  count_inside(tree, points, out);
   return out;
 }
 

@@ -314,7 +314,8 @@ bool tree_mesh(const std::vector<double>& xyz, const SkeletonParams& sp, const M
                        : format(*m.dbh) + modeling::dbh_note(m))
             << ", wood volume " << format(m.volume);
     const modeling::SkeletonCoverage coverage = modeling::skeleton_coverage(skeleton, mesh);
-    summary << "; " << std::lround(100.0 * coverage.share()) << "% of the skeleton inside the mesh";
+    summary << "; " << std::lround(100.0 * coverage.share()) << "% of the skeleton inside the mesh ("
+            << std::lround(100.0 * coverage.wood.share()) << "% of its wood)";
     if (stats.pieces > 0) summary << " (" << stats.pieces << " limbs swept apart and united)";
     if (stats.thin_left_out + stats.pieces_failed > 0)
       summary << "; " << stats.thin_left_out + stats.pieces_failed << " branches left out";

@@ -105,8 +105,10 @@ TEST(ModelWarnings, EachFaultSaysItsOwnSentence) {
   }
   {
     Model m = sound;
-    m.check.volume = 0.5 * m.measurements.volume;
-    expect_one(m.warnings(), "the mesh's volume is 50% of the wood volume");
+    m.check.volume = 0.5 * m.measurements.volume;  // the volumes' ratio alone warns of nothing
+    EXPECT_TRUE(m.warnings().empty());
+    m.coverage.wood.inside = m.coverage.wood.samples / 2;
+    expect_one(m.warnings(), "the mesh holds 50% of the wood the fitted radii describe");
   }
   {
     Model m = sound;  // the tree's nodes listed 1,000 points; 200 more were in parts too far to join
@@ -129,6 +131,20 @@ TEST(MeshWarnings, AreTheModelsAboutTheMeshAlone) {
   ASSERT_EQ(model.size(), 3u);
   EXPECT_EQ(std::vector<std::string>(model.begin(), model.begin() + 2), mesh);  // first, in the same words
   EXPECT_NE(model.back().find("shorter than breast height"), std::string::npos) << model.back();
+}
+
+TEST(MeshWarnings, AMeshThatHoldsLittleOfTheWoodItsRadiiDescribe) {
+  Model m(test::y_shape(0.1));  // the arms start inside the trunk: overlapping frustums, no warning
+  EXPECT_TRUE(mesh_warnings(m.check, m.sweep, m.coverage, m.unite_apart).empty());
+  EXPECT_GT(m.coverage.wood.share(), 0.95);
+  // The skeleton's whole length in the mesh, but a tube of half the radii: a quarter of the wood.
+  Skeleton thin = m.skeleton;
+  for (NodeId v = 0; v < thin.node_count(); ++v) thin[v].radius *= 0.5;
+  m.coverage = modeling::skeleton_coverage(m.skeleton, modeling::sweep_mesh(thin));
+  EXPECT_GT(m.coverage.share(), 0.99);
+  EXPECT_NEAR(m.coverage.wood.share(), 0.25, 0.05);
+  expect_one(mesh_warnings(m.check, m.sweep, m.coverage, m.unite_apart), "of the wood the fitted radii describe");
+  expect_one(m.warnings(), "of the wood the fitted radii describe");
 }
 
 TEST(ModelWarnings, SizesAndAxesNoTreeHas) {

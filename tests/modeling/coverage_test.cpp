@@ -94,9 +94,23 @@ TEST(Coverage, TheWoodInsideIsTheShareOfTheFrustumsTheMeshHolds) {
   // Seeded: the same points every time; another seed, other points.
   EXPECT_EQ(wood_inside(rod(0.5, 1.5, 0.1), cube).inside, half.inside);
   EXPECT_NE(wood_inside(rod(0.5, 1.5, 0.1), cube, 4000, 2).inside, half.inside);
-  // Nothing to sample: no share lost.
+  // Nothing to sample: no share lost. An empty mesh holds none of the wood.
   EXPECT_DOUBLE_EQ(wood_inside(rod(0.2, 0.8, 0.0), cube).share(), 1.0);
   EXPECT_EQ(wood_inside(rod(0.2, 0.8, 0.1), cube, 0).samples, 0u);
+  EXPECT_DOUBLE_EQ(wood_inside(rod(0.2, 0.8, 0.1), TreeMesh{}).share(), 0.0);
+}
+
+TEST(Coverage, TheSkeletonsCoverageMeasuresTheWoodInsideToo) {
+  // The same points as wood_inside's defaults, tested against the same mesh.
+  const TreeMesh cube = unit_cube();
+  const Skeleton half = rod(0.5, 1.5, 0.1);
+  const SkeletonCoverage c = skeleton_coverage(half, cube);
+  const WoodInside w = wood_inside(half, cube);
+  EXPECT_EQ(c.wood.samples, kWoodSamples);
+  EXPECT_EQ(c.wood.inside, w.inside);
+  EXPECT_DOUBLE_EQ(c.wood.volume, w.volume);
+  EXPECT_NEAR(c.share(), 0.5, 1e-3);
+  EXPECT_DOUBLE_EQ(skeleton_coverage(half, TreeMesh{}).wood.share(), 0.0);
 }
 
 TEST(Coverage, FrustumsThatOverlapAreStillWoodInside) {
