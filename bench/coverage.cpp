@@ -221,8 +221,9 @@ int main(int argc, char** argv) {
     }
     if (!truth_file.empty()) {
       const Skeleton truth = skeleton_in_frame_of(truth_file, cloud);
-      const auto inside = modeling::skeleton_coverage(truth, mesh);
-      const auto near = modeling::skeleton_coverage(truth, mesh, 0.0, 0.01 * height);
+      // The true skeleton's length alone: its wood is not printed, so none is drawn.
+      const auto inside = modeling::skeleton_coverage(truth, mesh, 0.0, 0.0, 0);
+      const auto near = modeling::skeleton_coverage(truth, mesh, 0.0, 0.01 * height, 0);
       std::printf("truth: length %.3f, inside the mesh %.3f, within 1%% of its surface %.3f\n", inside.length,
                   inside.share(), near.share());
     }

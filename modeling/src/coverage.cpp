@@ -77,7 +77,8 @@ void count_inside(const FaceTree& tree, const std::vector<K::Point_3>& points, W
 
 }  // namespace
 
-SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mesh, double step, double tolerance) {
+SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mesh, double step, double tolerance,
+                                   std::size_t wood_samples) {
   SkeletonCoverage out;
   const auto& g = skeleton.graph;
   if (boost::num_vertices(g) == 0) return out;
@@ -88,7 +89,7 @@ SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mes
   if (!(tolerance > 0.0)) tolerance = 1e-6 * extent;
   for (auto [it, end] = boost::edges(g); it != end; ++it)
     out.length += (g[boost::source(*it, g)].position - g[boost::target(*it, g)].position).norm();
-  const std::vector<K::Point_3> wood = draw_in_frustums(skeleton, kWoodSamples, 1, out.wood);
+  const std::vector<K::Point_3> wood = draw_in_frustums(skeleton, wood_samples, 1, out.wood);
   out.wood.samples = wood.size();
   if (mesh.n_faces() == 0) return out;
   FaceTree tree(faces(mesh).first, faces(mesh).second, mesh);

@@ -111,6 +111,10 @@ TEST(Coverage, TheSkeletonsCoverageMeasuresTheWoodInsideToo) {
   EXPECT_DOUBLE_EQ(c.wood.volume, w.volume);
   EXPECT_NEAR(c.share(), 0.5, 1e-3);
   EXPECT_DOUBLE_EQ(skeleton_coverage(half, TreeMesh{}).wood.share(), 0.0);
+  // Asked for no wood samples: the length alone, the same as with them.
+  const SkeletonCoverage length_only = skeleton_coverage(half, cube, 0.0, 0.0, 0);
+  EXPECT_EQ(length_only.wood.samples, 0u);
+  EXPECT_DOUBLE_EQ(length_only.inside_length, c.inside_length);
 }
 
 TEST(Coverage, FrustumsThatOverlapAreStillWoodInside) {

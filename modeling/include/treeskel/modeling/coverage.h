@@ -43,19 +43,20 @@ WoodInside wood_inside(const Skeleton& skeleton, const TreeMesh& mesh, std::size
 struct SkeletonCoverage {
   double length = 0.0;          ///< total length of the skeleton's edges
   double inside_length = 0.0;   ///< of which inside the mesh (or on its surface)
-  WoodInside wood;              ///< the frustums' wood inside the mesh (`wood_inside` with its defaults)
+  WoodInside wood;              ///< the frustums' wood inside the mesh (`wood_inside`)
   double share() const { return length > 0.0 ? inside_length / length : 1.0; }
 };
 
 /// Cuts every skeleton edge into pieces at most `step` long (at least two) and tests each piece's
 /// centre, which stands for the piece's length: covered when it lies inside the closed mesh or
-/// within `tolerance` of its surface. Measures the wood inside too (`wood_inside`), on the same
-/// search structure.
-/// @param[in] step       sample spacing along the edges (input units); 0: 1/2000 of the skeleton's extent
-/// @param[in] tolerance  distance from the surface that still counts as covered; 0: 1e-6 of the extent
+/// within `tolerance` of its surface. Measures the wood inside too (`wood_inside` with seed 1), on
+/// the same search structure.
+/// @param[in] step          sample spacing along the edges (input units); 0: 1/2000 of the skeleton's extent
+/// @param[in] tolerance     distance from the surface that still counts as covered; 0: 1e-6 of the extent
+/// @param[in] wood_samples  the points `wood_inside` draws; 0 leaves the wood unmeasured (`wood.samples` 0)
 /// @pre `mesh` is closed (its inside is then defined).
 SkeletonCoverage skeleton_coverage(const Skeleton& skeleton, const TreeMesh& mesh, double step = 0.0,
-                                   double tolerance = 0.0);
+                                   double tolerance = 0.0, std::size_t wood_samples = kWoodSamples);
 
 /// Distance from each point to the mesh's surface (exact, by an AABB tree over the triangles).
 std::vector<double> surface_distances(const TreeMesh& mesh, const std::vector<Eigen::Vector3d>& points);
