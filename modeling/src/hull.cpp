@@ -3,6 +3,7 @@
 #include "treeskel/disjoint_sets.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Filtered_predicate.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
 
@@ -18,6 +19,29 @@ namespace {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Face = std::array<std::size_t, 3>;
+
+/// CGAL's traits for the hull with its two tests that settle ties in exact binary floats (CGAL's
+/// Mpzf) instead of GMP's rationals. A join's rings are flat, so the hull meets near-ties at almost
+/// every face, and the rationals' allocations made half of its time. Both tests are signs of 3x3
+/// determinants of differences, products only, so the answers are the same:
+/// - which of two points lies farther from a plane through three points: the kernel's predicate
+///   with the exact ring kernel for its fallback (as the kernel's own orientation test has it);
+/// - which side of a face a point lies on: quickhull's filtered version of it is specialised for
+///   CGAL's traits class alone and falls back on rationals; for another class it calls the kernel's
+///   orientation test (static filter, intervals, then Mpzf).
+struct HullTraits : CGAL::Convex_hull_traits_3<K, CGAL::Surface_mesh<K::Point_3>> {
+  class Less_signed_distance_to_plane_3 {
+   public:
+    using result_type = bool;
+    bool operator()(const Plane_3& h, const Point_3& p, const Point_3& q) const { return less_(h.p(), h.q(), h.r(), p, q); }
+
+   private:
+    CGAL::Filtered_predicate<K::Exact_kernel_rt::Less_signed_distance_to_plane_3, K::Approximate_kernel::Less_signed_distance_to_plane_3,
+                             K::C2E_rt, K::C2F>
+        less_;
+  };
+  Less_signed_distance_to_plane_3 less_signed_distance_to_plane_3_object() const { return {}; }
+};
 
 /// The boundary of `region` (faces of `faces`, by position) as one loop of point indices in the
 /// faces' orientation, starting anywhere; nothing when the boundary is not a single loop or a
@@ -116,7 +140,7 @@ std::vector<Face> convex_hull_faces(const std::vector<Eigen::Vector3d>& points, 
     index[{points[i].x(), points[i].y(), points[i].z()}] = i;
   }
   CGAL::Surface_mesh<K::Point_3> hull;
-  CGAL::convex_hull_3(p.begin(), p.end(), hull);
+  CGAL::convex_hull_3(p.begin(), p.end(), hull, HullTraits());
   std::vector<Face> faces;
   for (auto f : hull.faces()) {
     Face corner{};

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_3.h>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -121,6 +124,50 @@ TEST(Hull, WithoutFlatFacesEveryPointIsACorner) {
   expect_closed(faces);
   EXPECT_EQ(faces.size(), 2 * p.size() - 4);
   EXPECT_GT(volume(p, faces), 0.0);
+}
+
+// Joins' rings: flat polygons in doubles, tilted, so four of a ring's points are coplanar up to
+// rounding and the hull's tests meet near-ties at almost every step (the hull settles them in its
+// own exact arithmetic, not CGAL's default). Every face has all points on or behind it, exactly,
+// and the corners are those of the hull CGAL's default traits give.
+TEST(Hull, FlatRingsGiveTheCornersOfCgalsOwnHull) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const double pi = std::acos(-1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<Vector3d> p;
+    std::vector<std::size_t> group;
+    const int rings = 2 + trial % 3;
+    for (int r = 0; r < rings; ++r) {
+      const Vector3d centre(unit(rng), unit(rng), unit(rng) + 2.0 * r);
+      const Vector3d axis = Vector3d(unit(rng), unit(rng), 2.0).normalized();
+      const Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
+      const int sides = 6 + 6 * (trial % 3);
+      const double radius = 0.2 + 0.3 * std::abs(unit(rng));
+      for (int k = 0; k < sides; ++k) {
+        const double a = 2 * pi * k / sides;
+        p.push_back(centre + radius * (std::cos(a) * u + std::sin(a) * v));
+        group.push_back(static_cast<std::size_t>(r));
+      }
+    }
+    const Faces faces = convex_hull_faces(p, group);
+    expect_closed(faces);
+    std::vector<K::Point_3> q;
+    for (const auto& x : p) q.emplace_back(x.x(), x.y(), x.z());
+    std::set<std::size_t> corners;
+    for (const auto& f : faces) {
+      corners.insert(f.begin(), f.end());
+      for (const auto& x : q) EXPECT_NE(CGAL::orientation(q[f[0]], q[f[1]], q[f[2]], x), CGAL::POSITIVE) << "trial " << trial;
+    }
+    CGAL::Surface_mesh<K::Point_3> theirs;
+    CGAL::convex_hull_3(q.begin(), q.end(), theirs);
+    std::set<std::size_t> their_corners;
+    for (auto v : theirs.vertices())
+      for (std::size_t i = 0; i < q.size(); ++i)
+        if (q[i] == theirs.point(v)) their_corners.insert(i);
+    EXPECT_EQ(corners, their_corners) << "trial " << trial;
+  }
 }
 
 TEST(Hull, APointGivenTwiceStandsForItselfByItsLastIndex) {
