@@ -134,34 +134,47 @@ std::vector<Face> convex_hull_faces(const std::vector<Eigen::Vector3d>& points, 
   if (group.size() != points.size()) throw std::invalid_argument("convex_hull_faces: one group per point");
   std::vector<K::Point_3> p;
   p.reserve(points.size());
-  std::map<std::array<double, 3>, std::size_t> index;  // point -> its (last) index
+  // A corner of the hull -> its point's (last) index: (place, index) pairs sorted, one per place.
+  using Place = std::array<double, 3>;
+  std::vector<std::pair<Place, std::size_t>> index;
+  index.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     p.emplace_back(points[i].x(), points[i].y(), points[i].z());
-    index[{points[i].x(), points[i].y(), points[i].z()}] = i;
+    index.push_back({{points[i].x(), points[i].y(), points[i].z()}, i});
   }
+  std::sort(index.begin(), index.end());
+  const auto index_of = [&](const K::Point_3& q) {
+    const auto it = std::upper_bound(index.begin(), index.end(), Place{q.x(), q.y(), q.z()},
+                                     [](const Place& a, const std::pair<Place, std::size_t>& b) { return a < b.first; });
+    if (it == index.begin() || std::prev(it)->first != Place{q.x(), q.y(), q.z()}) throw std::logic_error("convex_hull_faces: a corner that is no point");
+    return std::prev(it)->second;
+  };
   CGAL::Surface_mesh<K::Point_3> hull;
   CGAL::convex_hull_3(p.begin(), p.end(), hull, HullTraits());
   std::vector<Face> faces;
+  faces.reserve(hull.number_of_faces());
   for (auto f : hull.faces()) {
     Face corner{};
     int k = 0;
     for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
       if (k == 3) break;
-      const auto& q = hull.point(v);
-      corner[static_cast<std::size_t>(k++)] = index.at({q.x(), q.y(), q.z()});
+      corner[static_cast<std::size_t>(k++)] = index_of(hull.point(v));
     }
     faces.push_back(corner);
   }
-  // Neighbouring faces that lie in one plane form a region.
-  std::map<std::pair<std::size_t, std::size_t>, std::size_t> face_of;  // directed edge -> face
+  // Neighbouring faces that lie in one plane form a region. Directed edge -> face, sorted.
+  std::vector<std::pair<std::pair<std::size_t, std::size_t>, std::size_t>> face_of;
+  face_of.reserve(3 * faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f)
-    for (int k = 0; k < 3; ++k) face_of[{faces[f][k], faces[f][(k + 1) % 3]}] = f;
+    for (std::size_t k = 0; k < 3; ++k) face_of.push_back({{faces[f][k], faces[f][(k + 1) % 3]}, f});
+  std::sort(face_of.begin(), face_of.end());
   DisjointSets<std::size_t> plane(faces.size());
   bool flat = false;
   for (std::size_t f = 0; f < faces.size(); ++f)
     for (int k = 0; k < 3; ++k) {
-      const auto twin = face_of.find({faces[f][(k + 1) % 3], faces[f][k]});
-      if (twin == face_of.end() || twin->second < f) continue;
+      const std::pair<std::size_t, std::size_t> back{faces[f][(k + 1) % 3], faces[f][k]};
+      const auto twin = std::lower_bound(face_of.begin(), face_of.end(), back, [](const auto& e, const auto& key) { return e.first < key; });
+      if (twin == face_of.end() || twin->first != back || twin->second < f) continue;
       const Face& g = faces[twin->second];
       const std::size_t opposite = g[0] + g[1] + g[2] - faces[f][k] - faces[f][(k + 1) % 3];
       if (CGAL::coplanar(p[faces[f][0]], p[faces[f][1]], p[faces[f][2]], p[opposite]) && plane.unite(f, twin->second)) flat = true;
