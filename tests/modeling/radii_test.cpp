@@ -78,6 +78,37 @@ TEST(MeasureNodeRadii, CircleFitRecoversAHalfScannedBranch) {
   }
 }
 
+// The skeleton of a sparse scan zigzags between the pieces its bands fell into: a straight
+// vertical branch of radius 0.1 with its nodes 0.03 either side of the axis in turn every other
+// node. Across the axis along a node's neighbours (tilted 50 degrees at every other node) the points
+// lie on an ellipse; across the axis over a few radii they lie on the circle.
+TEST(MeasureNodeRadii, AZigzagSkeletonMeasuresTheBranchAcrossItsAxis) {
+  eval::SurfaceSampling sampling;
+  sampling.points = 6000;
+  const PointCloud cloud = eval::sample_cylinders({{Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, 2), 0.1, 0.1}}, sampling);
+  Skeleton s;
+  const double step = 0.025;
+  const int nodes = 81;
+  for (int i = 0; i < nodes; ++i) {
+    SkeletonNode node;
+    node.position = Eigen::Vector3d(0.03 * std::sin(0.5 * M_PI * i), 0.0, step * i);
+    const NodeId v = add_node(s, node);
+    if (i > 0) boost::add_edge(v - 1, v, s.graph);
+  }
+  for (std::uint32_t i = 0; i < cloud.size(); ++i) {
+    const double z = cloud.positions[i].z() + cloud.offset.z();
+    s[static_cast<NodeId>(std::lround(std::clamp(z / step, 0.0, nodes - 1.0)))].points.push_back(i);
+  }
+  const auto m = measure_node_radii(s, cloud);
+  int tilted = 0;
+  for (NodeId v = 8; v + 8 < s.node_count(); ++v) {
+    EXPECT_NEAR(m[v].radius, 0.1, 0.003) << v;
+    EXPECT_GT(m[v].weight, 0.0) << v;
+    tilted += v % 2 == 0;
+  }
+  EXPECT_GT(tilted, 20);
+}
+
 // A point repeated at the very same place counts once: every point written ten times measures
 // as the points once; a node with five places repeated ten times has five points, too few to fit.
 TEST(MeasureNodeRadii, RepeatedPointsCountOnce) {

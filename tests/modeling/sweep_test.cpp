@@ -186,7 +186,10 @@ TEST(SweepMesh, BundledCloudsGiveValidWholeMeshes) {
       // degrees, within a few radii: no tube follows that, and the chain was thinned, with the
       // stem above it (6,834 nodes), to a third of its radius. It is swept straight instead.
       EXPECT_GE(stats.straightened_branches, 1u);
-      EXPECT_EQ(stats.repaired_shrunk, 0u);
+      // A twig may still be thinned once to clear a crossing (since the fits across the axis of
+      // 7 December 2026: one of 5 mm carrying 0.05% of the wood, to 0.7 of its radius); the stem
+      // was thinned three times, and the volume below would show it.
+      EXPECT_LE(stats.repaired_shrunk, 1u);
       // Where the joins at both ends of a branch between two forks do not fit, the branch is swept
       // apart and united at its radii: thinned with all it carries (three times, at a cluster of
       // forks at 2.4 m), a 4 cm limb and the crown it bears kept 0.80 of the frustums' volume.
