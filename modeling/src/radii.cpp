@@ -20,6 +20,7 @@ namespace {
 
 constexpr std::size_t kMaxFitPoints = 2000;  // a circle needs no more; larger nodes are thinned
 constexpr int kGaussNewtonSteps = 10;
+
 /// How far along the skeleton, on either side of a node, its branch's axis is also taken for its
 /// circle fit, in the median distance of its points from it (about its radius). The level sets of a
 /// sparsely scanned branch cut its bands into pieces; the skeleton then zigzags between them, and the
@@ -229,16 +230,15 @@ RadiusMeasurement measure_node_radius(const Skeleton& skeleton, const PointCloud
   std::nth_element(distance.begin(), distance.begin() + static_cast<std::ptrdiff_t>(distance.size() / 2), distance.end());
   const double reach = kAxisReach * distance[distance.size() / 2];
   const std::size_t stride = (places.size() + kMaxFitPoints - 1) / kMaxFitPoints;
-  std::size_t fitted = 0;
+  const std::size_t fitted = (places.size() + stride - 1) / stride;  // every stride-th place
   const auto fit_across = [&](const Eigen::Vector3d& axis) {
     const Eigen::Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
     std::vector<Eigen::Vector2d> q;
-    q.reserve(places.size() / stride + 1);
+    q.reserve(fitted);
     for (std::size_t i = 0; i < places.size(); i += stride) {
       const Eigen::Vector3d d = places[i] - node.position;
       q.emplace_back(d.dot(u), d.dot(w));
     }
-    fitted = q.size();
     return fit_circle(q);
   };
   const Eigen::Vector3d near_axis = branch_direction(skeleton, v, 0.0);

@@ -87,11 +87,11 @@ TEST(MeasureNodeRadii, AZigzagSkeletonMeasuresTheBranchAcrossItsAxis) {
   sampling.points = 6000;
   const PointCloud cloud = eval::sample_cylinders({{Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, 2), 0.1, 0.1}}, sampling);
   Skeleton s;
-  const double step = 0.025;
+  const double step = 0.025, pi = std::acos(-1.0);
   const int nodes = 81;
   for (int i = 0; i < nodes; ++i) {
     SkeletonNode node;
-    node.position = Eigen::Vector3d(0.03 * std::sin(0.5 * M_PI * i), 0.0, step * i);
+    node.position = Eigen::Vector3d(0.03 * std::sin(0.5 * pi * i), 0.0, step * i);
     const NodeId v = add_node(s, node);
     if (i > 0) boost::add_edge(v - 1, v, s.graph);
   }
@@ -100,13 +100,10 @@ TEST(MeasureNodeRadii, AZigzagSkeletonMeasuresTheBranchAcrossItsAxis) {
     s[static_cast<NodeId>(std::lround(std::clamp(z / step, 0.0, nodes - 1.0)))].points.push_back(i);
   }
   const auto m = measure_node_radii(s, cloud);
-  int tilted = 0;
-  for (NodeId v = 8; v + 8 < s.node_count(); ++v) {
+  for (NodeId v = 8; v + 8 < s.node_count(); ++v) {  // the ends' reach is cut short
     EXPECT_NEAR(m[v].radius, 0.1, 0.003) << v;
     EXPECT_GT(m[v].weight, 0.0) << v;
-    tilted += v % 2 == 0;
   }
-  EXPECT_GT(tilted, 20);
 }
 
 // A point repeated at the very same place counts once: every point written ten times measures
